@@ -1,0 +1,69 @@
+// `oraclemesh JOB.json`: runs a job file, progress on stderr, a one-screen summary on stdout.
+// Exit codes: 0 done, 2 bad job or input, 3 limit reached or cancelled, 1 anything else.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "Error.h"
+#include "job/Pipeline.h"
+
+namespace {
+
+int usage() {
+  std::cerr << "usage: oraclemesh JOB.json\n"
+               "  Meshes the inputs of the job file (see README.md, 'The job contract') and writes\n"
+               "  the files listed in output.files and output.report. Relative paths in the job are\n"
+               "  relative to the job file's folder.\n";
+  return 2;
+}
+
+void printSummary(const nlohmann::json& report) {
+  const auto& counts = report["counts"];
+  std::cout << "vertices " << counts["vertices"] << ", tets " << counts["tets"] << "\n";
+  for (const auto& [material, n] : counts["tets_per_material"].items())
+    std::cout << "  material " << material << ": " << n << " tets\n";
+  std::cout << "dihedral angles: min " << report["quality"]["min_dihedral_deg"] << ", max "
+            << report["quality"]["max_dihedral_deg"] << " degrees\n";
+  for (const auto& [phase, s] : report["seconds"].items()) std::cout << "  " << phase << ": " << s << " s\n";
+  for (const auto& w : report["warnings"]) std::cout << "warning: " << w.get<std::string>() << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help") return usage();
+  const std::string jobPath = argv[1];
+  try {
+    std::ifstream in(jobPath);
+    if (!in) throw oraclemesh::InputError("cannot read the job file '" + jobPath + "': check the path");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string base = std::filesystem::absolute(jobPath).parent_path().string();
+    const oraclemesh::JobSpec job = oraclemesh::JobSpec::fromJsonText(text.str(), base);
+    std::string lastPhase;
+    oraclemesh::RunControl control(
+        [&](const std::string& phase, double fraction) {
+          if (phase != lastPhase) std::cerr << "\n";
+          lastPhase = phase;
+          std::cerr << "\r[oraclemesh] " << phase << " " << static_cast<int>(100 * fraction) << "%" << std::flush;
+        },
+        job.time_limit);
+    const oraclemesh::JobResult result = oraclemesh::runJob(job, control);
+    std::cerr << "\n";
+    printSummary(result.report);
+    return 0;
+  } catch (const oraclemesh::InputError& e) {
+    std::cerr << "\noraclemesh: error: " << e.what() << "\n";
+    return 2;
+  } catch (const oraclemesh::LimitError& e) {
+    std::cerr << "\noraclemesh: stopped: " << e.what() << "\n";
+    return 3;
+  } catch (const oraclemesh::Cancelled& e) {
+    std::cerr << "\noraclemesh: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "\noraclemesh: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,49 @@
+#pragma once
+// Plain geometric value types shared by every layer. The core's interfaces use these
+// instead of CGAL or OpenCASCADE types so that headers stay cheap to include.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace oraclemesh {
+
+using Point3 = std::array<double, 3>;
+
+inline Point3 operator+(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Point3 operator-(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Point3 operator*(double s, const Point3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+inline double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Point3 cross(const Point3& a, const Point3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double norm(const Point3& a) { return std::sqrt(dot(a, a)); }
+inline double distance(const Point3& a, const Point3& b) { return norm(a - b); }
+
+struct Bbox {
+  Point3 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+             std::numeric_limits<double>::infinity()};
+  Point3 max{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+             -std::numeric_limits<double>::infinity()};
+
+  bool empty() const { return min[0] > max[0]; }
+  void add(const Point3& p) {
+    for (int i = 0; i < 3; ++i) {
+      min[i] = std::min(min[i], p[i]);
+      max[i] = std::max(max[i], p[i]);
+    }
+  }
+  void add(const Bbox& b) {
+    if (b.empty()) return;
+    add(b.min);
+    add(b.max);
+  }
+  bool contains(const Point3& p, double margin = 0) const {
+    for (int i = 0; i < 3; ++i)
+      if (p[i] < min[i] - margin || p[i] > max[i] + margin) return false;
+    return true;
+  }
+  double diagonal() const { return empty() ? 0.0 : distance(min, max); }
+};
+
+}  // namespace oraclemesh

@@ -1,0 +1,27 @@
+#pragma once
+// Per-material refinement criteria (thesis §2.2; same meaning as CGAL Mesh_3's criteria).
+// Lengths are in model units (mm in FreeCAD).
+#include <map>
+
+namespace oraclemesh {
+
+struct MaterialCriteria {
+  double cell_size = 0;               // circumradius bound of tets
+  double cell_radius_edge_ratio = 2;  // circumradius / shortest edge bound
+  double facet_size = 0;              // surface Delaunay ball radius bound
+  double facet_distance = 0;          // distance of facet circumcentre to the surface
+  double facet_angle = 25;            // minimum facet angle, degrees (0 = off)
+  double edge_size = 0;               // feature edge length bound (protecting balls)
+};
+
+struct CriteriaTable {
+  MaterialCriteria defaults;
+  std::map<int, MaterialCriteria> per_material;  // already merged with the defaults
+
+  const MaterialCriteria& of(int material) const {
+    auto it = per_material.find(material);
+    return it == per_material.end() ? defaults : it->second;
+  }
+};
+
+}  // namespace oraclemesh

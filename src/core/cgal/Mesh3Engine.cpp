@@ -1,0 +1,296 @@
+// CGAL Mesh_3 driven by the hierarchical oracle. This is one of the two translation units
+// allowed to include Mesh_3 headers (8+ minutes of CPU each): keep it small and stable.
+#include "cgal/Mesh3Engine.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_domain_with_polyline_features_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/exude_mesh_3.h>
+#include <CGAL/make_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
+#include <CGAL/refine_mesh_3.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <functional>
+#include <unordered_map>
+
+#include "Error.h"
+
+namespace oraclemesh {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Domain = CGAL::Mesh_domain_with_polyline_features_3<CGAL::Labeled_mesh_domain_3<K>>;
+using Tr = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, Domain::Curve_index>;
+using Criteria = CGAL::Mesh_criteria_3<Tr>;
+using Point_3 = K::Point_3;
+using FT = K::FT;
+
+Point3 toPoint3(const Point_3& p) { return {p.x(), p.y(), p.z()}; }
+Point_3 toCgal(const Point3& p) { return Point_3(p[0], p[1], p[2]); }
+
+class PhaseTimer {
+ public:
+  explicit PhaseTimer(Mesh3Statistics* stats) : stats_(stats) {}
+  void finish(const std::string& phase) {
+    const auto now = std::chrono::steady_clock::now();
+    if (stats_) stats_->seconds[phase] = std::chrono::duration<double>(now - start_).count();
+    start_ = now;
+  }
+
+ private:
+  Mesh3Statistics* stats_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Mesh_3 asks for sizes with the index of the element it refines: a subdomain index for
+// cells, a surface patch index (the pair of subdomains on either side) for facets.
+// A facet between two materials takes the finer of their two bounds.
+class MaterialSizeField {
+ public:
+  MaterialSizeField(const Domain* domain, const CriteriaTable* table, double MaterialCriteria::*field)
+      : domain_(domain), table_(table), field_(field) {}
+
+  FT operator()(const Point_3&, const int dim, const Domain::Index& index) const {
+    if (dim == 3) return table_->of(domain_->subdomain_index(index)).*field_;
+    if (dim == 2) {
+      const auto patch = domain_->surface_patch_index(index);
+      double size = std::numeric_limits<double>::infinity();
+      for (int material : {patch.first, patch.second})
+        if (material > 0) size = std::min(size, table_->of(material).*field_);
+      if (std::isfinite(size)) return size;
+    }
+    return table_->defaults.*field_;
+  }
+
+ private:
+  const Domain* domain_;
+  const CriteriaTable* table_;
+  double MaterialCriteria::*field_;
+};
+
+double strictestOver(const CriteriaTable& table, double MaterialCriteria::*field, bool smallerIsStricter) {
+  double value = table.defaults.*field;
+  for (const auto& [material, c] : table.per_material)
+    value = smallerIsStricter ? std::min(value, c.*field) : std::max(value, c.*field);
+  return value;
+}
+
+double squaredDistanceToSegment(const Point3& p, const Point3& a, const Point3& b) {
+  const Point3 ab = b - a;
+  const double len2 = dot(ab, ab);
+  double t = len2 > 0 ? dot(p - a, ab) / len2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  const Point3 q = a + t * ab;
+  return dot(p - q, p - q);
+}
+
+// Mesh_3's own seeding shoots random rays from the bounding box centre and so misses small
+// or hidden boundary components (a thin pin beside a plate). We insert one or more points on
+// every face of every input that lies on the composite boundary, computed by Mesh_3's own
+// intersection construction so that their indices are what the refiner expects.
+int64_t insertBoundarySeeds(C3t3& c3t3, const Domain& domain, const HierarchicalOracle& oracle,
+                            const FeatureGraph& features, const CriteriaTable& criteria) {
+  const double diag = oracle.diagonal();
+  const double probe = 1e-4 * diag;
+  const auto intersect = domain.construct_intersection_object();
+  const auto cwp = c3t3.triangulation().geom_traits().construct_weighted_point_3_object();
+  std::vector<Point3> inserted;
+  int64_t count = 0;
+  for (const OracleEntry& entry : oracle.entries()) {
+    const double spacing =
+        2 * (entry.role == Role::Material ? criteria.of(entry.material).facet_size : criteria.defaults.facet_size);
+    const double minGap = 0.5 * spacing;
+    for (const BoundarySample& s : entry.source->boundarySamples(spacing)) {
+      const Point3 a = s.point - probe * s.normal;
+      const Point3 b = s.point + probe * s.normal;
+      if (oracle.label(a) == oracle.label(b)) continue;  // not on the composite boundary
+      // Seeds inside protecting balls would be hidden by them or spoil the protection.
+      const double edgeClearance = 2 * strictestOver(criteria, &MaterialCriteria::edge_size, false);
+      bool nearFeature = false;
+      for (const FeaturePolyline& pl : features.polylines) {
+        for (size_t i = 0; i + 1 < pl.points.size() && !nearFeature; ++i)
+          nearFeature = squaredDistanceToSegment(s.point, pl.points[i], pl.points[i + 1]) < edgeClearance * edgeClearance;
+        if (nearFeature) break;
+      }
+      if (nearFeature) continue;
+      const bool crowded = std::any_of(inserted.begin(), inserted.end(),
+                                       [&](const Point3& q) { return distance(q, s.point) < minGap; });
+      if (crowded) continue;
+      const auto hit = intersect(K::Segment_3(toCgal(a), toCgal(b)));
+      if (std::get<2>(hit) == 0) continue;  // Mesh_3 found no crossing (within its error)
+      auto v = c3t3.triangulation().insert(cwp(std::get<0>(hit)));
+      if (v == Tr::Vertex_handle()) continue;  // hidden by a protecting ball
+      c3t3.set_dimension(v, 2);
+      c3t3.set_index(v, std::get<1>(hit));
+      inserted.push_back(s.point);
+      ++count;
+    }
+  }
+  return count;
+}
+
+TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector<int>& curveIdOfIndex) {
+  TetMesh mesh;
+  std::unordered_map<Tr::Vertex_handle, int64_t> index;
+  auto indexOf = [&](Tr::Vertex_handle v) {
+    auto [it, added] = index.emplace(v, static_cast<int64_t>(mesh.points.size()));
+    if (added) {
+      mesh.points.push_back(toPoint3(c3t3.triangulation().point(v).point()));
+      const int dim = c3t3.in_dimension(v);
+      mesh.vertex_dimension.push_back(dim);
+      int curve = -1;
+      if (dim == 1) {
+        const int curveIndex = domain.curve_index(c3t3.index(v));
+        if (curveIndex > 0 && curveIndex < static_cast<int>(curveIdOfIndex.size())) curve = curveIdOfIndex[curveIndex];
+      }
+      mesh.vertex_curve.push_back(curve);
+    }
+    return it->second;
+  };
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
+    // CGAL cells are positively oriented, which is the orientation TetMesh promises.
+    mesh.tets.push_back({indexOf(c->vertex(0)), indexOf(c->vertex(1)), indexOf(c->vertex(2)), indexOf(c->vertex(3))});
+    mesh.tet_materials.push_back(c3t3.subdomain_index(c));
+  }
+  for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e) {
+    const Tr::Vertex_handle a = e->first->vertex(e->second);
+    const Tr::Vertex_handle b = e->first->vertex(e->third);
+    auto ia = index.find(a), ib = index.find(b);
+    if (ia == index.end() || ib == index.end()) continue;  // edge of no meshed cell
+    mesh.feature_edges.push_back({ia->second, ib->second});
+    const int curveIndex = c3t3.curve_index(*e);
+    mesh.feature_edge_curves.push_back(
+        curveIndex > 0 && curveIndex < static_cast<int>(curveIdOfIndex.size()) ? curveIdOfIndex[curveIndex] : -1);
+  }
+  return mesh;
+}
+
+}  // namespace
+
+TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& features,
+                          const Mesh3Options& options, const RunControl& control, Mesh3Statistics* statistics) {
+  PhaseTimer timer(statistics);
+  const Bbox box = oracle.bbox();
+  const double margin = 0.02 * box.diagonal();
+  const CGAL::Bbox_3 cgalBox(box.min[0] - margin, box.min[1] - margin, box.min[2] - margin,
+                             box.max[0] + margin, box.max[1] + margin, box.max[2] + margin);
+
+  // The stop flag is how Mesh_3 is interrupted; the labeling function, called constantly,
+  // raises it on cancel or time-out and reports progress on the way.
+  std::atomic<bool> stop{false};
+  bool timedOut = false;
+  int64_t calls = 0;
+  const C3t3* progressSource = nullptr;
+  const double expectedVertices = std::max<double>(1000.0, static_cast<double>(options.max_vertices) / 50.0);
+  std::function<int(const Point_3&)> labeling = [&](const Point_3& p) {
+    if ((++calls & 4095) == 0) {
+      if (control.cancelRequested()) stop = true;
+      if (!control.cancelRequested()) {
+        try {
+          control.checkpoint();
+        } catch (const LimitError&) {
+          timedOut = true;
+          stop = true;
+        }
+      }
+      if (progressSource)
+        control.report("refine", std::min(0.99, progressSource->triangulation().number_of_vertices() / expectedVertices));
+    }
+    return oracle.label(toPoint3(p));
+  };
+
+  // Bisection stops at relative_error_bound x diagonal; the pipeline then projects boundary
+  // vertices exactly onto the CAD, so this only needs to be small against the mesh size.
+  CGAL::Random random(options.seed);
+  Domain domain(labeling, cgalBox, FT(1e-8), CGAL::Null_subdomain_index(), &random);
+
+  std::vector<int> curveIdOfIndex(1, -1);  // Mesh_3 curve indices start at 1
+  if (!features.empty()) {
+    std::vector<std::vector<Point_3>> polylines;
+    for (const FeaturePolyline& pl : features.polylines) {
+      std::vector<Point_3> line;
+      for (const Point3& p : pl.points) line.push_back(toCgal(p));
+      polylines.push_back(std::move(line));
+      curveIdOfIndex.push_back(pl.curve);
+    }
+    domain.add_features(polylines.begin(), polylines.end());
+  }
+
+  const CriteriaTable& table = options.criteria;
+  const double radiusEdge = strictestOver(table, &MaterialCriteria::cell_radius_edge_ratio, true);
+  const double facetAngle = std::min(30.0, strictestOver(table, &MaterialCriteria::facet_angle, false));
+  const double edgeSize = strictestOver(table, &MaterialCriteria::edge_size, true);
+  if (statistics) {
+    statistics->radius_edge_ratio_used = radiusEdge;
+    statistics->facet_angle_used = facetAngle;
+  }
+  namespace p = CGAL::parameters;
+  Criteria criteria(p::edge_size = edgeSize, p::facet_angle = facetAngle,
+                    p::facet_size = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_size),
+                    p::facet_distance = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_distance),
+                    p::cell_radius_edge_ratio = radiusEdge,
+                    p::cell_size = MaterialSizeField(&domain, &table, &MaterialCriteria::cell_size));
+
+  C3t3 c3t3;
+  progressSource = &c3t3;
+  CGAL::Mesh_error_code errorCode = CGAL::CGAL_MESH_3_NO_ERROR;
+  const std::size_t maxVertices = options.max_vertices > 0 ? static_cast<std::size_t>(options.max_vertices) : 0;
+  auto throwIfStopped = [&](const char* phase) {
+    if (control.cancelRequested()) throw Cancelled();
+    if (timedOut) control.checkpoint();  // throws the time-limit LimitError
+    if (errorCode == CGAL::CGAL_MESH_3_MAXIMAL_NUMBER_OF_VERTICES_REACHED)
+      throw LimitError(std::string("the mesh reached limits.max_vertices = ") + std::to_string(options.max_vertices) +
+                       " vertices during " + phase + ": coarsen cell_size / facet_size / facet_distance or raise the limit");
+  };
+
+  control.report("protect features", 0);
+  if (!features.empty()) {
+    CGAL::Mesh_3::internal::init_c3t3_with_features(c3t3, domain, criteria, false, maxVertices, &errorCode, &stop);
+    throwIfStopped("feature protection");
+    if (statistics) statistics->protecting_balls = static_cast<int64_t>(c3t3.triangulation().number_of_vertices());
+  }
+  timer.finish("protect_features");
+
+  const int64_t seeds = insertBoundarySeeds(c3t3, domain, oracle, features, table);
+  if (statistics) statistics->initial_points = seeds;
+  timer.finish("seed");
+
+  control.report("refine", 0);
+  CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_perturb(), p::no_exude(), p::no_reset_c3t3(),
+                      p::mesh_3_options(p::maximal_number_of_vertices = maxVertices,
+                                        p::pointer_to_error_code = &errorCode,
+                                        p::pointer_to_stop_atomic_boolean = &stop));
+  throwIfStopped("refinement");
+  if (c3t3.number_of_cells_in_complex() == 0)
+    throw InputError("Mesh_3 produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
+                     "lower cell_size and facet_size below the smallest part's thickness");
+  timer.finish("refine");
+
+  if (options.perturb) {
+    control.report("perturb", 0);
+    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = options.optimize_time_limit);
+    throwIfStopped("perturbation");
+  }
+  timer.finish("perturb");
+  if (options.exude) {
+    control.report("exude", 0);
+    CGAL::exude_mesh_3(c3t3, p::time_limit = options.optimize_time_limit);
+    throwIfStopped("exudation");
+  }
+  timer.finish("exude");
+
+  TetMesh mesh = extractTetMesh(c3t3, domain, curveIdOfIndex);
+  timer.finish("extract");
+  return mesh;
+}
+
+}  // namespace oraclemesh

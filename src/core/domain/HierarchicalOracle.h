@@ -1,0 +1,48 @@
+#pragma once
+// The hierarchical oracle (thesis §4.1): overlapping inputs composed by priority, without
+// Boolean operations. Entry 0 has the highest priority. A `material` entry claims the
+// points inside it that no higher entry claimed; a `cut` entry makes the points inside it
+// exterior for itself and every lower entry.
+#include <vector>
+
+#include "domain/Source.h"
+
+namespace oraclemesh {
+
+enum class Role { Material, Cut };
+
+struct OracleEntry {
+  SourcePtr source;
+  Role role = Role::Material;
+  int material = 0;  // > 0 for Role::Material; 0 for Role::Cut
+};
+
+class HierarchicalOracle {
+ public:
+  // Throws InputError when there is no material entry or an entry is malformed.
+  explicit HierarchicalOracle(std::vector<OracleEntry> entries);
+
+  // Material id at p; 0 = outside the composite domain.
+  int label(const Point3& p) const;
+  // Index of the entry that decides p's label, or -1 when no entry contains p.
+  int decidingEntry(const Point3& p) const;
+  // True when p is strictly inside (not just on the boundary) an entry with a higher
+  // priority than `entry`, i.e. whatever entry `entry` says about p is overridden.
+  bool coveredByHigherEntry(const Point3& p, int entry) const;
+
+  const std::vector<OracleEntry>& entries() const { return entries_; }
+  // Bounding box of the material entries (cuts cannot add volume).
+  const Bbox& bbox() const { return bbox_; }
+  double diagonal() const { return bbox_.diagonal(); }
+  // Geometric tolerance for "on the boundary" decisions, relative to the model size.
+  double tolerance() const { return 1e-9 * bbox_.diagonal(); }
+  // Nearest point on any entry's boundary (used to put mesh nodes exactly on the CAD faces).
+  // `entry` receives the index of the entry whose boundary was nearest.
+  BoundaryProjection projectOnBoundary(const Point3& p, int* entry = nullptr) const;
+
+ private:
+  std::vector<OracleEntry> entries_;
+  Bbox bbox_;
+};
+
+}  // namespace oraclemesh

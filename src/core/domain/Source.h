@@ -1,0 +1,47 @@
+#pragma once
+// One input domain of the hierarchical oracle (thesis §2.3): it knows which points are
+// inside it and where its boundary is. The oracle composes several of them by priority.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Geometry.h"
+
+namespace oraclemesh {
+
+// The nearest boundary point of a source and the boundary patch it lies on
+// (B-rep face index, 0-based in TopExp::MapShapes order; 0 for a sphere).
+struct BoundaryProjection {
+  Point3 point{};
+  int patch = -1;
+  double distance = std::numeric_limits<double>::infinity();
+};
+
+// A point on the boundary with its outward unit normal. Samples seed the mesher with
+// points on every connected boundary component (Mesh_3's own seeding misses some).
+struct BoundarySample {
+  Point3 point{};
+  Point3 normal{};
+  int patch = -1;
+};
+
+class Source {
+ public:
+  virtual ~Source() = default;
+
+  // The input's name as the user gave it; used in every message about this input.
+  virtual const std::string& name() const = 0;
+  virtual Bbox bbox() const = 0;
+  // Closed-set membership is not promised: points within the model tolerance of the
+  // boundary may go either way. Must be const and thread-safe.
+  virtual bool inside(const Point3& p) const = 0;
+  virtual BoundaryProjection project(const Point3& p) const = 0;
+  // At least one sample on every face / connected boundary component, about `spacing` apart.
+  virtual std::vector<BoundarySample> boundarySamples(double spacing) const = 0;
+  // Volume of the source on its own (used for reports and absurd-size checks).
+  virtual double volume() const = 0;
+};
+
+using SourcePtr = std::shared_ptr<const Source>;
+
+}  // namespace oraclemesh

@@ -1,0 +1,21 @@
+#pragma once
+// Constrained segments (thesis §3): polylines the mesh must contain as chains of edges.
+#include <vector>
+
+#include "Geometry.h"
+
+namespace oraclemesh {
+
+struct FeaturePolyline {
+  std::vector<Point3> points;  // at least two; ends are exact curve ends or clip points
+  int curve = -1;              // curve id, unique within the FeatureGraph
+  int source = -1;             // index of the oracle entry the curve belongs to
+  int edge = -1;               // B-rep edge index within that source (-1: not a B-rep edge)
+};
+
+struct FeatureGraph {
+  std::vector<FeaturePolyline> polylines;
+  bool empty() const { return polylines.empty(); }
+};
+
+}  // namespace oraclemesh

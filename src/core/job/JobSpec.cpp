@@ -1,0 +1,233 @@
+#include "job/JobSpec.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "Error.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+
+std::string resolvePath(const std::string& path, const std::string& base) {
+  std::filesystem::path p(path);
+  if (p.is_absolute() || base.empty()) return p.string();
+  return (std::filesystem::path(base) / p).string();
+}
+
+double positiveNumber(const json& value, const std::string& where) {
+  if (!value.is_number())
+    throw InputError(where + " must be a number, got " + value.dump() + ": give a positive length in model units (mm)");
+  const double v = value.get<double>();
+  if (!std::isfinite(v) || v <= 0)
+    throw InputError(where + " = " + value.dump() + " is not a positive finite number: give a positive value in model units (mm)");
+  return v;
+}
+
+void rejectUnknownKeys(const json& object, const std::set<std::string>& known, const std::string& where) {
+  for (const auto& [key, value] : object.items())
+    if (!known.count(key)) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError("unknown key '" + key + "' in " + where + ": the known keys are " + list);
+    }
+}
+
+CriteriaSpec parseCriteria(const json& c, const std::string& where) {
+  if (!c.is_object()) throw InputError(where + " must be an object of sizes, e.g. {\"cell_size\": 3}");
+  rejectUnknownKeys(c, {"cell_size", "cell_radius_edge_ratio", "facet_size", "facet_distance", "facet_angle", "edge_size"}, where);
+  CriteriaSpec s;
+  auto take = [&](const char* key, std::optional<double>& out) {
+    if (c.contains(key)) out = positiveNumber(c[key], where + "." + key);
+  };
+  take("cell_size", s.cell_size);
+  take("cell_radius_edge_ratio", s.cell_radius_edge_ratio);
+  take("facet_size", s.facet_size);
+  take("facet_distance", s.facet_distance);
+  take("facet_angle", s.facet_angle);
+  take("edge_size", s.edge_size);
+  if (s.facet_angle && *s.facet_angle > 30)
+    throw InputError(where + ".facet_angle = " + std::to_string(*s.facet_angle) +
+                     " degrees: Delaunay refinement is only guaranteed to end for facet angles up to 30; use 30 or less");
+  return s;
+}
+
+InputSpec parseInput(const json& in, size_t index, const std::string& base) {
+  const std::string where = "inputs[" + std::to_string(index) + "]";
+  if (!in.is_object()) throw InputError(where + " must be an object like {\"name\": \"pin\", \"file\": \"pin.step\", \"material\": 1}");
+  rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "role", "material"}, where);
+  InputSpec s;
+  s.name = in.value("name", std::string("input ") + std::to_string(index + 1));
+  const std::string label = "input '" + s.name + "'";
+  const int kinds = int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere"));
+  if (kinds != 1)
+    throw InputError(label + " must have exactly one of 'file', 'brep' or 'sphere' (it has " + std::to_string(kinds) + ")");
+  if (in.contains("file")) {
+    if (!in["file"].is_string() || in["file"].get<std::string>().empty())
+      throw InputError(label + ": 'file' must be a path to a STEP or BREP file");
+    s.kind = InputSpec::Kind::File;
+    s.file = resolvePath(in["file"].get<std::string>(), base);
+  } else if (in.contains("brep")) {
+    if (!in["brep"].is_string() || in["brep"].get<std::string>().empty())
+      throw InputError(label + ": 'brep' must be non-empty BREP text (FreeCAD: Shape.exportBrepToString())");
+    s.kind = InputSpec::Kind::BrepText;
+    s.brep_text = in["brep"].get<std::string>();
+  } else {
+    const json& sp = in["sphere"];
+    if (!sp.is_object() || !sp.contains("center") || !sp.contains("radius") || !sp["center"].is_array() || sp["center"].size() != 3)
+      throw InputError(label + ": 'sphere' must be {\"center\": [x, y, z], \"radius\": r}");
+    s.kind = InputSpec::Kind::Sphere;
+    for (int i = 0; i < 3; ++i) {
+      if (!sp["center"][i].is_number() || !std::isfinite(sp["center"][i].get<double>()))
+        throw InputError(label + ": sphere centre coordinates must be finite numbers");
+      s.center[i] = sp["center"][i].get<double>();
+    }
+    s.radius = positiveNumber(sp["radius"], label + " sphere radius");
+  }
+  const std::string role = in.value("role", std::string("material"));
+  if (role == "material") {
+    s.role = Role::Material;
+    if (!in.contains("material"))
+      s.material = static_cast<int>(index) + 1;
+    else if (!in["material"].is_number_integer() || in["material"].get<int>() <= 0)
+      throw InputError(label + ": 'material' must be a positive integer id (1, 2, ...), got " + in["material"].dump());
+    else
+      s.material = in["material"].get<int>();
+  } else if (role == "cut") {
+    s.role = Role::Cut;
+    if (in.contains("material"))
+      throw InputError(label + " has role 'cut' and a material: a cut region removes material, remove its 'material' key");
+  } else {
+    throw InputError(label + ": role '" + role + "' is unknown: use 'material' or 'cut'");
+  }
+  return s;
+}
+
+}  // namespace
+
+JobSpec JobSpec::fromJsonText(const std::string& text, const std::string& baseDirectory) {
+  json job;
+  try {
+    job = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(std::string("the job is not valid JSON: ") + e.what());
+  }
+  return fromJson(job, baseDirectory);
+}
+
+JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
+  if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
+  rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
+                          "element_order", "limits", "seed", "output"},
+                    "the job");
+  JobSpec spec;
+  if (!job.contains("inputs") || !job["inputs"].is_array() || job["inputs"].empty())
+    throw InputError("the job has no inputs: add at least one solid to 'inputs' (highest priority first)");
+  for (size_t i = 0; i < job["inputs"].size(); ++i) spec.inputs.push_back(parseInput(job["inputs"][i], i, base));
+  if (std::none_of(spec.inputs.begin(), spec.inputs.end(), [](const InputSpec& s) { return s.role == Role::Material; }))
+    throw InputError("all inputs have role 'cut', so nothing is left to mesh: give at least one input role 'material'");
+
+  if (job.contains("criteria")) {
+    const json& c = job["criteria"];
+    if (!c.is_object()) throw InputError("'criteria' must be an object with 'default' and/or 'materials'");
+    rejectUnknownKeys(c, {"default", "materials"}, "criteria");
+    if (c.contains("default")) spec.default_criteria = parseCriteria(c["default"], "criteria.default");
+    if (c.contains("materials")) {
+      if (!c["materials"].is_object()) throw InputError("criteria.materials must map material ids to criteria, e.g. {\"1\": {\"cell_size\": 1}}");
+      for (const auto& [key, value] : c["materials"].items()) {
+        int id = 0;
+        try {
+          size_t used = 0;
+          id = std::stoi(key, &used);
+          if (used != key.size()) id = 0;
+        } catch (...) {
+        }
+        if (id <= 0) throw InputError("criteria.materials key '" + key + "' is not a material id: use positive integers as keys");
+        spec.material_criteria[id] = parseCriteria(value, "criteria.materials." + key);
+      }
+    }
+  }
+
+  if (job.contains("features")) {
+    const json& f = job["features"];
+    if (f.is_boolean()) {
+      spec.features = f.get<bool>();
+    } else if (f.is_object()) {
+      rejectUnknownKeys(f, {"sharp_angle_deg", "junctions", "polylines"}, "features");
+      if (f.contains("sharp_angle_deg")) {
+        spec.sharp_angle_deg = positiveNumber(f["sharp_angle_deg"], "features.sharp_angle_deg");
+        if (spec.sharp_angle_deg >= 180) throw InputError("features.sharp_angle_deg must be below 180 degrees");
+      }
+      if (f.contains("polylines") && !f["polylines"].empty())
+        throw InputError("features.polylines (user polylines) are not supported yet: remove them from the job");
+    } else {
+      throw InputError("'features' must be false or an object like {\"sharp_angle_deg\": 30}");
+    }
+  }
+
+  if (job.contains("engine")) {
+    spec.engine = job["engine"].is_string() ? job["engine"].get<std::string>() : "";
+    if (spec.engine == "thesis")
+      throw InputError("engine 'thesis' (Rule Set T) is not available in this version: use engine 'cgal'");
+    if (spec.engine != "cgal") throw InputError("engine must be 'cgal' (got " + job["engine"].dump() + ")");
+  }
+  if (job.contains("material_assignment") && job["material_assignment"] != "circumcenter")
+    throw InputError("material_assignment: the 'cgal' engine assigns materials by circumcentre only: use \"circumcenter\"");
+  if (job.contains("initial_points") && !job["initial_points"].empty())
+    throw InputError("initial_points are not supported by the 'cgal' engine: remove them from the job");
+
+  if (job.contains("element_order")) {
+    const json& o = job["element_order"];
+    if (!o.is_number_integer() || (o.get<int>() != 1 && o.get<int>() != 2))
+      throw InputError("element_order must be 1 (tet4) or 2 (tet10), got " + o.dump());
+    spec.element_order = o.get<int>();
+  }
+  if (job.contains("optimize")) {
+    const json& o = job["optimize"];
+    if (o.is_boolean()) {
+      spec.perturb = spec.exude = o.get<bool>();
+    } else if (o.is_object()) {
+      rejectUnknownKeys(o, {"perturb", "exude", "time_limit"}, "optimize");
+      spec.perturb = o.value("perturb", true);
+      spec.exude = o.value("exude", true);
+      if (o.contains("time_limit")) spec.optimize_time_limit = positiveNumber(o["time_limit"], "optimize.time_limit");
+    } else {
+      throw InputError("'optimize' must be true/false or {\"perturb\": true, \"exude\": true, \"time_limit\": 60}");
+    }
+  }
+  if (job.contains("limits")) {
+    const json& l = job["limits"];
+    if (!l.is_object()) throw InputError("'limits' must be an object like {\"max_vertices\": 5000000, \"time_limit\": 3600}");
+    rejectUnknownKeys(l, {"max_vertices", "time_limit"}, "limits");
+    if (l.contains("max_vertices")) spec.max_vertices = static_cast<int64_t>(positiveNumber(l["max_vertices"], "limits.max_vertices"));
+    if (l.contains("time_limit")) spec.time_limit = positiveNumber(l["time_limit"], "limits.time_limit");
+  }
+  if (job.contains("seed")) {
+    if (!job["seed"].is_number_integer() || job["seed"].get<int64_t>() < 0)
+      throw InputError("seed must be a non-negative integer");
+    spec.seed = static_cast<unsigned>(job["seed"].get<int64_t>());
+  }
+  if (job.contains("output")) {
+    const json& o = job["output"];
+    if (!o.is_object()) throw InputError("'output' must be like {\"files\": [\"mesh.vtu\", \"mesh.inp\"], \"report\": \"report.json\"}");
+    rejectUnknownKeys(o, {"files", "report"}, "output");
+    if (o.contains("files")) {
+      if (!o["files"].is_array()) throw InputError("output.files must be a list of paths (.vtu, .inp)");
+      for (const json& f : o["files"]) {
+        if (!f.is_string()) throw InputError("output.files entries must be paths");
+        spec.output_files.push_back(resolvePath(f.get<std::string>(), base));
+      }
+    }
+    if (o.contains("report")) {
+      if (!o["report"].is_string()) throw InputError("output.report must be a path");
+      spec.report_file = resolvePath(o["report"].get<std::string>(), base);
+    }
+  }
+  return spec;
+}
+
+}  // namespace oraclemesh

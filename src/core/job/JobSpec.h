@@ -1,0 +1,55 @@
+#pragma once
+// The job contract (DESIGN.md "The job contract"): what the CLI, Python and FreeCAD all
+// send. Parsing validates everything a user can get wrong before any geometry is touched.
+#include <nlohmann/json_fwd.hpp>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "Geometry.h"
+#include "domain/HierarchicalOracle.h"
+
+namespace oraclemesh {
+
+struct InputSpec {
+  enum class Kind { File, BrepText, Sphere };
+  std::string name;
+  Kind kind = Kind::File;
+  std::string file;       // Kind::File, resolved against the job's base directory
+  std::string brep_text;  // Kind::BrepText
+  Point3 center{};        // Kind::Sphere
+  double radius = 0;
+  Role role = Role::Material;
+  int material = 0;
+};
+
+// Criteria as the user wrote them; unset values are filled from the model size later.
+struct CriteriaSpec {
+  std::optional<double> cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle, edge_size;
+};
+
+struct JobSpec {
+  std::vector<InputSpec> inputs;  // highest priority first
+  CriteriaSpec default_criteria;
+  std::map<int, CriteriaSpec> material_criteria;
+  bool features = true;
+  double sharp_angle_deg = 30;
+  std::string engine = "cgal";
+  int element_order = 2;
+  bool perturb = true;
+  bool exude = true;
+  double optimize_time_limit = 60;
+  int64_t max_vertices = 5'000'000;
+  double time_limit = 3600;
+  unsigned seed = 0;
+  std::vector<std::string> output_files;  // resolved against the base directory
+  std::string report_file;
+
+  // Throws InputError with a message naming the offending key or input and the fix.
+  static JobSpec fromJson(const nlohmann::json& job, const std::string& baseDirectory);
+  static JobSpec fromJsonText(const std::string& text, const std::string& baseDirectory);
+};
+
+}  // namespace oraclemesh

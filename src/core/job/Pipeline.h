@@ -1,0 +1,24 @@
+#pragma once
+// Runs a job end to end: inputs -> oracle -> features -> engine -> exact boundary nodes ->
+// second order -> quality report -> files. The CLI, the Python module and FreeCAD all come
+// through here, so they all behave the same.
+#include <nlohmann/json.hpp>
+
+#include "RunControl.h"
+#include "job/JobSpec.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+struct JobResult {
+  TetMesh mesh;
+  nlohmann::json report;
+};
+
+// Throws InputError (bad job or input), LimitError (vertex / time limit) or Cancelled.
+JobResult runJob(const JobSpec& job, const RunControl& control);
+
+// The library version reported in every report.
+const char* version();
+
+}  // namespace oraclemesh

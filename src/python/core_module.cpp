@@ -1,0 +1,118 @@
+// pybind11 module oraclemesh._core: the job contract for Python. The pure-Python package
+// `oraclemesh` wraps it (dict in, Result with numpy arrays out).
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "Error.h"
+#include "job/Pipeline.h"
+
+namespace py = pybind11;
+using namespace oraclemesh;
+
+namespace {
+
+template <typename T, size_t N, typename Rows>
+py::array_t<T> table(const Rows& rows, size_t columns = N) {
+  py::array_t<T> out({rows.size(), columns});
+  auto view = out.template mutable_unchecked<2>();
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = 0; j < columns; ++j) view(i, j) = static_cast<T>(rows[i][j]);
+  return out;
+}
+
+template <typename T, typename Values>
+py::array_t<T> column(const Values& values) {
+  py::array_t<T> out(values.size());
+  auto view = out.template mutable_unchecked<1>();
+  for (size_t i = 0; i < values.size(); ++i) view(i) = static_cast<T>(values[i]);
+  return out;
+}
+
+py::dict toPython(const JobResult& result) {
+  const TetMesh& m = result.mesh;
+  py::dict d;
+  d["points"] = table<double, 3>(m.points);
+  if (m.order() == 2) {
+    // Corners then the six mid nodes 01, 12, 20, 03, 13, 23 (VTK / FreeCAD mid-node order).
+    std::vector<std::array<int64_t, 10>> tet10(m.tets.size());
+    for (size_t i = 0; i < m.tets.size(); ++i) {
+      for (int k = 0; k < 4; ++k) tet10[i][k] = m.tets[i][k];
+      for (int k = 0; k < 6; ++k) tet10[i][4 + k] = m.tet_mid_nodes[i][k];
+    }
+    d["tets"] = table<int64_t, 10>(tet10);
+  } else {
+    d["tets"] = table<int64_t, 4>(m.tets);
+  }
+  d["tet_materials"] = column<int32_t>(m.tet_materials);
+  std::vector<std::array<int64_t, 3>> tri;
+  std::vector<std::array<int32_t, 2>> sides;
+  for (const BoundaryTriangle& t : m.boundary) {
+    tri.push_back(t.v);
+    sides.push_back({t.material_in, t.material_out});
+  }
+  d["boundary_triangles"] = table<int64_t, 3>(tri);
+  d["boundary_materials"] = table<int32_t, 2>(sides);
+  d["feature_edges"] = table<int64_t, 2>(m.feature_edges);
+  d["feature_edge_curves"] = column<int32_t>(m.feature_edge_curves);
+  d["vertex_dimension"] = column<int8_t>(m.vertex_dimension);
+  d["report"] = result.report.dump();
+  return d;
+}
+
+// Runs with the GIL released so FreeCAD's GUI thread and Python threads keep going; the
+// progress callback takes the GIL back. A callback returning False cancels the run.
+py::dict run(const std::string& jobJson, const std::string& baseDirectory, py::object progress) {
+  const JobSpec job = JobSpec::fromJsonText(jobJson, baseDirectory);
+  RunControl* controlPtr = nullptr;
+  std::string callbackError;
+  RunControl control(
+      [&](const std::string& phase, double fraction) {
+        if (progress.is_none()) return;
+        py::gil_scoped_acquire gil;
+        try {
+          py::object answer = progress(phase, fraction);
+          if (answer.is(py::bool_(false))) controlPtr->requestCancel();
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        } catch (py::error_already_set& e) {
+          // A failing or interrupted callback must not unwind through CGAL: stop cleanly.
+          callbackError = e.what();
+          controlPtr->requestCancel();
+        }
+      },
+      job.time_limit);
+  controlPtr = &control;
+  JobResult result;
+  {
+    py::gil_scoped_release release;
+    result = runJob(job, control);
+  }
+  return toPython(result);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "OracleMesh core: multi-material tetrahedral meshing of CAD assemblies";
+  static py::exception<Error> error(m, "Error");
+  static py::exception<InputError> inputError(m, "InputError", error.ptr());
+  static py::exception<LimitError> limitError(m, "LimitError", error.ptr());
+  static py::exception<Cancelled> cancelled(m, "Cancelled", error.ptr());
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      inputError(e.what());
+    } catch (const LimitError& e) {
+      limitError(e.what());
+    } catch (const Cancelled& e) {
+      cancelled(e.what());
+    } catch (const Error& e) {
+      error(e.what());
+    }
+  });
+  m.def("run", &run, py::arg("job_json"), py::arg("base_directory") = "", py::arg("progress") = py::none(),
+        "Run a job given as JSON text; returns a dict of numpy arrays and the report as JSON text.");
+  m.def("version", &version);
+}

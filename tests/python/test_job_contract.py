@@ -1,0 +1,130 @@
+"""The job contract through Python (oraclemesh.run) and the CLI: results, progress, errors.
+
+Run by tests/run.sh with PYTHONPATH pointing at the build's staged package and
+ORACLEMESH_BUILD_DIR at the build (for the CLI binary).
+"""
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import oraclemesh
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "..", "data")
+BUILD = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(HERE, "..", "..", "build"))
+CLI = os.path.join(BUILD, "oraclemesh")
+
+
+def sphere_job(radius=10.0, order=2, **extra):
+    job = {
+        "inputs": [{"name": "ball", "sphere": {"center": [1, 2, 3], "radius": radius}, "material": 1}],
+        "criteria": {"default": {"cell_size": radius / 3, "facet_size": radius / 4,
+                                 "facet_distance": radius / 200}},
+        "element_order": order,
+    }
+    job.update(extra)
+    return job
+
+
+def tet10_volume(points, tets):
+    """Exact volume of quadratic tets (det J is cubic: 3x3x3 Gauss on the Duffy cube)."""
+    g, w = np.array([0.1127016653792583, 0.5, 0.8872983346207417]), np.array([5, 8, 5]) / 18.0
+    edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+    dL = np.array([[-1, -1, -1], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    x = points[tets]  # (m, 10, 3)
+    total = 0.0
+    for a in range(3):
+        for b in range(3):
+            for c in range(3):
+                u, s, r = g[a], g[b], g[c]
+                xi, eta, zeta = u, s * (1 - u), r * (1 - u) * (1 - s)
+                L = np.array([1 - xi - eta - zeta, xi, eta, zeta])
+                grads = [(4 * L[i] - 1) * dL[i] for i in range(4)]
+                grads += [4 * (L[i] * dL[j] + L[j] * dL[i]) for i, j in edges]
+                J = np.einsum("mkr,kc->mrc", x, np.array(grads))
+                total += w[a] * w[b] * w[c] * (1 - u) ** 2 * (1 - s) * np.linalg.det(J).sum()
+    return total
+
+
+def test_sphere_tet10_volume_and_nodes_on_surface():
+    r = 10.0
+    result = oraclemesh.run(sphere_job(r))
+    assert result.tets.shape[1] == 10
+    assert set(np.unique(result.tet_materials)) == {1}
+    exact = 4.0 / 3.0 * math.pi * r ** 3
+    assert abs(tet10_volume(result.points, result.tets) - exact) < 0.005 * exact
+    # Every boundary node (corners and mid nodes of boundary triangles) is on the sphere.
+    center = np.array([1.0, 2.0, 3.0])
+    tri = result.boundary_triangles
+    assert len(tri) > 50
+    radii = np.linalg.norm(result.points[np.unique(tri)] - center, axis=1)
+    assert np.max(np.abs(radii - r)) < 1e-9 * 2 * r * math.sqrt(3)
+    # Corner orientation is positive for every tet.
+    p = result.points[result.tets[:, :4]]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    assert np.all(vol > 0)
+    assert result.report["counts"]["tets"] == len(result.tets)
+
+
+def test_progress_is_reported_and_cancel_stops():
+    phases = []
+    oraclemesh.run(sphere_job(order=1), progress=lambda phase, f: phases.append((phase, f)))
+    names = [p for p, _ in phases]
+    assert "load" in names and "refine" in names and names[-1] == "done"
+    assert all(0.0 <= f <= 1.0 for _, f in phases)
+
+    with pytest.raises(oraclemesh.Cancelled):
+        oraclemesh.run(sphere_job(order=1), progress=lambda phase, f: phase != "refine")
+
+
+@pytest.mark.parametrize("job, expected", [
+    ({"inputs": []}, "no inputs"),
+    ({"inputs": [{"name": "tool", "sphere": {"center": [0, 0, 0], "radius": 1}, "role": "cut"}]},
+     "role 'cut'"),
+    ({"inputs": [{"name": "flat", "file": os.path.join(DATA, "face_only.brep")}]}, "no solid"),
+    ({"inputs": [{"name": "lid_missing", "file": os.path.join(DATA, "open_shell.brep")}]}, "open shell"),
+    ({"inputs": [{"name": "garbage", "file": os.path.join(DATA, "not_a_shape.step")}]}, "garbage"),
+    ({"inputs": [{"name": "gone", "file": "/nonexistent/part.step"}]}, "/nonexistent/part.step"),
+    (sphere_job(criteria={"default": {"cell_size": float("nan")}}), "criteria.default.cell_size"),
+    (sphere_job(criteria={"default": {"cell_size": -1}}), "positive"),
+    (sphere_job(criteria={"default": {"cell_size": 1e-4}}), "max_vertices"),
+])
+def test_bad_input_names_input_and_fix(job, expected):
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job)
+    assert expected in str(err.value)
+
+
+def test_open_shell_message_counts_free_edges():
+    job = {"inputs": [{"name": "lid_missing", "file": os.path.join(DATA, "open_shell.brep")}]}
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job)
+    message = str(err.value)
+    assert "lid_missing" in message and "4 free edges" in message
+
+
+def test_cli_runs_job_file_and_writes_outputs(tmp_path):
+    job = sphere_job(order=1, output={"files": ["ball.vtu", "ball.inp"], "report": "report.json"})
+    path = tmp_path / "job.json"
+    path.write_text(json.dumps(job))
+    run = subprocess.run([CLI, str(path)], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert "refine" in run.stderr  # progress goes to stderr
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert report["counts"]["tets"] > 100
+    assert "tets" in run.stdout
+    assert (tmp_path / "ball.vtu").stat().st_size > 0 and (tmp_path / "ball.inp").stat().st_size > 0
+
+
+def test_cli_bad_input_exits_nonzero_with_message(tmp_path):
+    path = tmp_path / "job.json"
+    path.write_text(json.dumps({"inputs": [{"name": "flat", "file": os.path.join(DATA, "face_only.brep")}]}))
+    run = subprocess.run([CLI, str(path)], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2
+    assert "flat" in run.stderr and "no solid" in run.stderr
+    run = subprocess.run([CLI, str(tmp_path / "missing.json")], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and "missing.json" in run.stderr
