@@ -16,6 +16,7 @@
 #include <gp_Ax2.hxx>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -121,7 +122,8 @@ TEST(DemoAssembly, FeatureEdgesLieOnBrepEdges) {
     const Point3& q = mesh.points[e[1]];
     const Point3 mid = 0.5 * (p + q);
     // Ends exactly on an edge; the chord's midpoint within its sagitta on the tightest curve.
-    const double sagitta = distance(p, q) * distance(p, q) / (8 * pinRadius);
+    const double halfChord = 0.5 * distance(p, q);
+    const double sagitta = pinRadius - std::sqrt(std::max(0.0, pinRadius * pinRadius - halfChord * halfChord));
     for (const auto& [point, bound] : {std::pair{p, 1e-7}, std::pair{q, 1e-7}, std::pair{mid, 1e-7 + sagitta}}) {
       BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(gp_Pnt(point[0], point[1], point[2])).Vertex(), edges);
       ASSERT_TRUE(d.IsDone());

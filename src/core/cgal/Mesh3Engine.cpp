@@ -211,7 +211,7 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   // Bisection stops at relative_error_bound x diagonal; the pipeline then projects boundary
   // vertices exactly onto the CAD, so this only needs to be small against the mesh size.
   CGAL::Random random(options.seed);
-  Domain domain(labeling, cgalBox, FT(1e-8), CGAL::Null_subdomain_index(), &random);
+  Domain domain(labeling, cgalBox, FT(1e-6), CGAL::Null_subdomain_index(), &random);
 
   std::vector<int> curveIdOfIndex(1, -1);  // Mesh_3 curve indices start at 1
   if (!features.empty()) {
@@ -277,13 +277,16 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
 
   if (options.perturb) {
     control.report("perturb", 0);
-    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = options.optimize_time_limit);
+    // Perturbation only works on slivers below the bound: with no bound it keeps trying to
+    // raise the worst angle until the time limit, which makes the result machine-dependent.
+    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = options.optimize_time_limit,
+                         p::sliver_bound = options.sliver_bound);
     throwIfStopped("perturbation");
   }
   timer.finish("perturb");
   if (options.exude) {
     control.report("exude", 0);
-    CGAL::exude_mesh_3(c3t3, p::time_limit = options.optimize_time_limit);
+    CGAL::exude_mesh_3(c3t3, p::time_limit = options.optimize_time_limit, p::sliver_bound = options.sliver_bound);
     throwIfStopped("exudation");
   }
   timer.finish("exude");

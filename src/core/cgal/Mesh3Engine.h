@@ -16,7 +16,8 @@ struct Mesh3Options {
   CriteriaTable criteria;
   bool perturb = true;
   bool exude = true;
-  double optimize_time_limit = 60;  // seconds, per optimizer
+  double optimize_time_limit = 0;   // seconds per optimizer; 0 = none (results stay deterministic)
+  double sliver_bound = 10;         // dihedral angle (degrees) the optimizers try to reach
   int64_t max_vertices = 0;         // 0 = no limit
   unsigned seed = 0;                // Mesh_3's random choices (bisection start points)
 };

@@ -52,8 +52,9 @@ class BrepSolid : public Source {
     bool usable = false;          // false: every inside() query goes to OpenCASCADE
     size_t triangles = 0;         // in the tessellation proxy
     double deflection = 0;        // deviation proxy <-> B-rep, measured (>= BRepMesh's own)
-    double exactBand = 0;         // inside(): proxy answer only farther than this from it
-    int64_t unpairedEdges = 0;    // tessellation edges with no partner (gaps between faces)
+    double exactBand = 0;         // inside(): proxy answer always taken farther than this
+                                  // from it (nearer, per-face bands decide)
+    int64_t unpairedEdges = 0;    // tessellation edges used an odd number of times (gaps)
   };
   const ProxyInfo& proxyInfo() const;
   // The OpenCASCADE answer alone (BRepClass3d_SolidClassifier per solid), bypassing the

@@ -191,12 +191,17 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     if (o.is_boolean()) {
       spec.perturb = spec.exude = o.get<bool>();
     } else if (o.is_object()) {
-      rejectUnknownKeys(o, {"perturb", "exude", "time_limit"}, "optimize");
+      rejectUnknownKeys(o, {"perturb", "exude", "time_limit", "sliver_bound"}, "optimize");
       spec.perturb = o.value("perturb", true);
       spec.exude = o.value("exude", true);
       if (o.contains("time_limit")) spec.optimize_time_limit = positiveNumber(o["time_limit"], "optimize.time_limit");
+      if (o.contains("sliver_bound")) {
+        spec.sliver_bound = positiveNumber(o["sliver_bound"], "optimize.sliver_bound");
+        if (spec.sliver_bound >= 70)
+          throw InputError("optimize.sliver_bound must be below 70 degrees (a regular tetrahedron has 70.5)");
+      }
     } else {
-      throw InputError("'optimize' must be true/false or {\"perturb\": true, \"exude\": true, \"time_limit\": 60}");
+      throw InputError("'optimize' must be true/false or {\"perturb\": true, \"exude\": true, \"sliver_bound\": 10}");
     }
   }
   if (job.contains("limits")) {

@@ -40,7 +40,9 @@ struct JobSpec {
   int element_order = 2;
   bool perturb = true;
   bool exude = true;
-  double optimize_time_limit = 60;
+  // No time limit by default: a time-limited optimizer gives machine-dependent meshes.
+  double optimize_time_limit = 0;
+  double sliver_bound = 10;  // dihedral angle (degrees) perturbation and exudation aim for
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;

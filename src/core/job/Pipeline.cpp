@@ -238,13 +238,14 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   options.perturb = job.perturb;
   options.exude = job.exude;
   options.optimize_time_limit = job.optimize_time_limit;
+  options.sliver_bound = job.sliver_bound;
   options.max_vertices = job.max_vertices;
   options.seed = job.seed;
   Mesh3Statistics stats;
   JobResult result;
   result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
+  clock.finish("mesh3");  // the engine's total; its phases are reported beside it
   for (const auto& [phase, s] : stats.seconds) clock.seconds["mesh3_" + phase] = s;
-  clock.finish("mesh3_other");
   TetMesh& mesh = result.mesh;
 
   control.report("snap", 0);
@@ -281,8 +282,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   const QualityReport quality = measureQuality(mesh);
   const ConformityReport conformity = checkConformity(mesh);
-  if (quality.inverted > 0)
-    warnings.push_back(std::to_string(quality.inverted) + " tetrahedra are inverted after putting nodes on the CAD faces");
+  if (conformity.inverted_tets > 0)
+    warnings.push_back(std::to_string(conformity.inverted_tets) +
+                       " tetrahedra are inverted (or fold, for tet10) after putting nodes on the CAD faces");
   if (!conformity.ok()) warnings.push_back("the mesh failed its conformity check (see report.conformity)");
 
   json counts;
@@ -302,6 +304,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                           {"open_boundary_edges", conformity.open_boundary_edges},
                           {"inverted_tets", conformity.inverted_tets},
                           {"unused_points", conformity.unused_points},
+                          {"inconsistent_mid_nodes", conformity.inconsistent_mid_nodes},
                           {"ok", conformity.ok()}};
   json crit = {{"default", criteriaJson(criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);

@@ -1,0 +1,763 @@
+// CGAL comes before any OpenCASCADE header: OCCT defines a function-like macro `Handle`
+// that breaks CGAL's templates (CGAL/Lazy.h) when they are parsed after it.
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include "domain/BrepSolid.h"
+
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepGProp.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_Surface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeFix_Solid.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopoDS_Vertex.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <unordered_map>
+
+#include "Error.h"
+
+namespace oraclemesh {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using KPoint = Kernel::Point_3;
+using ProxyMesh = CGAL::Surface_mesh<KPoint>;
+using ProxyPrimitive = CGAL::AABB_face_graph_triangle_primitive<ProxyMesh>;
+using ProxyTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, ProxyPrimitive>>;
+using ProxySide = CGAL::Side_of_triangle_mesh<ProxyMesh, Kernel>;
+
+Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+gp_Pnt toGp(const Point3& p) { return gp_Pnt(p[0], p[1], p[2]); }
+
+std::string lowerExtension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || path.find_first_of("/\\", dot) != std::string::npos) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::string plural(int64_t n, const std::string& word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+Bbox boxOf(const TopoDS_Shape& shape) {
+  Bnd_Box box;
+  // useTriangulation=false: the box of the exact geometry, not of an old tessellation.
+  BRepBndLib::Add(shape, box, false);
+  Bbox b;
+  if (box.IsVoid()) return b;
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  b.add(Point3{x0, y0, z0});
+  b.add(Point3{x1, y1, z1});
+  return b;
+}
+
+// Edges bounding a single face of `shape`: holes in the surface. Degenerated edges (cone
+// apex, sphere pole) and seams (the same face on both sides) are not holes.
+int64_t countFreeEdges(const TopoDS_Shape& shape) {
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  int64_t freeEdges = 0;
+  for (int i = 1; i <= edgeFaces.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(edgeFaces.FindKey(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    const TopTools_ListOfShape& faces = edgeFaces.FindFromIndex(i);
+    TopTools_IndexedMapOfShape distinct;
+    for (const TopoDS_Shape& f : faces) distinct.Add(f);
+    if (distinct.Extent() != 1) continue;
+    if (BRep_Tool::IsClosed(e, TopoDS::Face(distinct(1)))) continue;
+    ++freeEdges;
+  }
+  return freeEdges;
+}
+
+// Sews the faces of `shape` with a tolerance relative to the model size: shells that are
+// closed up to tiny gaps (typical of STEP export) become closed.
+TopoDS_Shape sewFaces(const TopoDS_Shape& shape, double tolerance) {
+  BRepBuilderAPI_Sewing sewing(tolerance);
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) sewing.Add(ex.Current());
+  sewing.Perform();
+  return sewing.SewedShape();
+}
+
+TopoDS_Solid solidFromClosedShell(const TopoDS_Shell& shell) {
+  // SolidFromShell builds the solid and orients its shell so that the volume is positive
+  // (outward face normals), which BRepBuilderAPI_MakeSolid alone does not guarantee.
+  ShapeFix_Solid fix;
+  return fix.SolidFromShell(shell);
+}
+
+double signedVolume(const TopoDS_Shape& solid) {
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(solid, props);
+  return props.Mass();
+}
+
+// Turns whatever the user gave into a solid or a compound of solids, or explains why not.
+TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what) {
+  if (input.IsNull())
+    throw InputError(what + " holds no geometry: select a solid, or a closed shell");
+  const double sewTolerance = std::max(1e-6 * boxOf(input).diagonal(), 1e-7);
+
+  std::vector<TopoDS_Solid> solids;
+  for (TopExp_Explorer ex(input, TopAbs_SOLID); ex.More(); ex.Next()) {
+    TopoDS_Solid solid = TopoDS::Solid(ex.Current());
+    const int64_t freeEdges = countFreeEdges(solid);
+    if (freeEdges > 0)
+      throw InputError(what + " has a solid whose boundary is open (" + plural(freeEdges, "free edge") +
+                       "): repair the solid (Part > Check geometry, Part > Refine shape) or rebuild it from a "
+                       "closed shell");
+    solids.push_back(solid);
+  }
+
+  std::vector<TopoDS_Shell> shells;
+  for (TopExp_Explorer ex(input, TopAbs_SHELL, TopAbs_SOLID); ex.More(); ex.Next())
+    shells.push_back(TopoDS::Shell(ex.Current()));
+  int64_t looseFaces = 0;
+  TopoDS_Compound faceBag;
+  BRep_Builder builder;
+  builder.MakeCompound(faceBag);
+  for (TopExp_Explorer ex(input, TopAbs_FACE, TopAbs_SHELL); ex.More(); ex.Next()) {
+    builder.Add(faceBag, ex.Current());
+    ++looseFaces;
+  }
+
+  for (const TopoDS_Shell& shell : shells) {
+    TopoDS_Shape closed = shell;
+    int64_t freeEdges = countFreeEdges(shell);
+    if (freeEdges > 0) {
+      // A shell that only lacks sewing (faces not sharing their edges) is still a closed
+      // surface to the user; sewing is what FreeCAD's Shape builder would do.
+      const TopoDS_Shape sewn = sewFaces(shell, sewTolerance);
+      const int64_t sewnFree = countFreeEdges(sewn);
+      if (sewnFree > 0) {
+        const size_t others = solids.size() + shells.size() - 1;
+        throw InputError(what + (others == 0 ? " is an open shell with " : " holds an open shell with ") +
+                         plural(sewnFree, "free edge") +
+                         (others == 0 ? "" : " (besides " + std::to_string(others) + " other solids and shells)") +
+                         ": close the surface or sew it (Part > Shape builder)" +
+                         (others == 0 ? "" : ", or leave it out of the input"));
+      }
+      closed = sewn;
+    }
+    for (TopExp_Explorer ex(closed, TopAbs_SHELL); ex.More(); ex.Next())
+      solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
+  }
+
+  if (looseFaces > 0) {
+    const TopoDS_Shape sewn = sewFaces(faceBag, sewTolerance);
+    int shellCount = 0;
+    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next()) ++shellCount;
+    const int64_t sewnFree = countFreeEdges(sewn);
+    if (shellCount == 0 || sewnFree > 0)
+      throw InputError(what + " holds no solid (found " + plural(looseFaces, "face") +
+                       (shellCount > 0 ? " that leave " + plural(sewnFree, "free edge") + " when sewn" : "") +
+                       "): select a solid, or a closed shell");
+    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
+      solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
+  }
+
+  if (solids.empty()) {
+    int64_t edges = 0, vertices = 0;
+    for (TopExp_Explorer ex(input, TopAbs_EDGE); ex.More(); ex.Next()) ++edges;
+    for (TopExp_Explorer ex(input, TopAbs_VERTEX); ex.More(); ex.Next()) ++vertices;
+    const std::string found = edges > 0 ? plural(edges, "edge") : vertices > 0 ? plural(vertices, "vertex") : "nothing";
+    throw InputError(what + " holds no solid (found " + found + "): select a solid, or a closed shell");
+  }
+
+  for (TopoDS_Solid& solid : solids) {
+    const double v = signedVolume(solid);
+    if (v < 0) solid.Reverse();  // inside out (faces oriented inward): flip it
+    if (!(std::abs(v) > 0))
+      throw InputError(what + " has a solid with zero volume: select a solid that encloses a volume");
+  }
+  if (solids.size() == 1) return solids.front();
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Solid& s : solids) builder.Add(compound, s);
+  return compound;
+}
+
+std::string describe(const std::string& name, const std::string& path) {
+  return "input '" + name + "'" + (path.empty() ? "" : " (file '" + path + "')");
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------
+
+struct BrepSolid::Impl {
+  std::string name;
+  TopoDS_Shape shape;
+  Bbox box;
+  double diagonal = 0;
+  double volume = 0;
+  double maxShapeTolerance = 0;  // largest vertex/edge/face tolerance of the model
+
+  TopTools_IndexedMapOfShape faceMap, edgeMap;
+  std::vector<TopoDS_Face> faces;
+  std::vector<TopoDS_Edge> edges;
+  std::vector<std::vector<int>> edgeFaces;
+
+  // Exact classification: one BRepClass3d_SolidClassifier per solid and thread. Loading a
+  // classifier builds per-face intersectors (costly), and an instance keeps mutable state
+  // during Perform(), so instances are never shared between threads: each query leases
+  // one from the pool of its solid (or loads a new one) and gives it back afterwards.
+  struct ClassifierPool {
+    TopoDS_Shape solid;
+    Bbox box;
+    mutable std::mutex mutex;
+    mutable std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> idle;
+  };
+  std::vector<std::unique_ptr<ClassifierPool>> solids;
+  double classifyTolerance = 0;
+
+  // Tessellation proxy. The tree and the side-of-mesh functor are only read by queries
+  // (the tree and its distance-query kd-tree are built eagerly below), so they are shared.
+  ProxyMesh proxyMesh;
+  std::vector<int> proxyFaceOfTriangle;  // B-rep face (0-based) of each proxy triangle
+  std::vector<double> faceBand;          // per face: the proxy is trusted farther than this
+  std::unique_ptr<ProxyTree> proxyTree;
+  std::unique_ptr<ProxySide> proxySide;
+  ProxyInfo proxy;
+
+  void index();
+  bool proxyTrusted(const KPoint& q, double distanceToProxy) const;
+  Kernel::Triangle_3 proxyTriangle(ProxyMesh::Face_index f) const;
+  void buildProxy();
+  bool classifyExact(const Point3& p) const;
+  BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
+};
+
+void BrepSolid::Impl::index() {
+  TopExp::MapShapes(shape, TopAbs_FACE, faceMap);
+  TopExp::MapShapes(shape, TopAbs_EDGE, edgeMap);
+  for (int i = 1; i <= faceMap.Extent(); ++i) faces.push_back(TopoDS::Face(faceMap(i)));
+  for (int i = 1; i <= edgeMap.Extent(); ++i) edges.push_back(TopoDS::Edge(edgeMap(i)));
+  edgeFaces.assign(edges.size(), {});
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next()) {
+      const int e = edgeMap.FindIndex(ex.Current()) - 1;
+      std::vector<int>& list = edgeFaces[e];
+      if (std::find(list.begin(), list.end(), static_cast<int>(f)) == list.end()) list.push_back(static_cast<int>(f));
+    }
+  for (TopExp_Explorer ex(shape, TopAbs_VERTEX); ex.More(); ex.Next())
+    maxShapeTolerance = std::max(maxShapeTolerance, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
+  for (const TopoDS_Edge& e : edges) maxShapeTolerance = std::max(maxShapeTolerance, BRep_Tool::Tolerance(e));
+  for (const TopoDS_Face& f : faces) maxShapeTolerance = std::max(maxShapeTolerance, BRep_Tool::Tolerance(f));
+
+  for (TopExp_Explorer ex(shape, TopAbs_SOLID); ex.More(); ex.Next()) {
+    auto pool = std::make_unique<ClassifierPool>();
+    pool->solid = ex.Current();
+    pool->box = boxOf(ex.Current());
+    solids.push_back(std::move(pool));
+  }
+}
+
+void BrepSolid::Impl::buildProxy() {
+  // A deflection relative to the model size keeps the proxy's triangle count independent of
+  // the units; the exact band below follows whatever BRepMesh actually achieved.
+  // 2e-4 keeps curved faces' exact bands thin (most Mesh_3 queries are near the surface)
+  // at a few thousand triangles for typical parts.
+  const double requested = 2e-4 * diagonal;
+  BRepMesh_IncrementalMesh mesher(shape, requested, Standard_False, 0.5, Standard_False);
+  (void)mesher;
+
+  bool complete = true;
+  // Starts at zero: a planar face's triangles lie on it, and its band then shrinks to the
+  // model tolerance (the polygon-versus-curve gaps at its curved edges lie within the band of
+  // the curved neighbour face).
+  std::vector<double> measuredOfFace(faces.size(), 0.0);
+  proxyFaceOfTriangle.clear();
+  std::map<std::array<double, 3>, int> nodeIds;  // exact-coordinate identity, for the gap count
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
+    if (tri.IsNull() || tri->NbTriangles() == 0) {
+      complete = false;
+      continue;
+    }
+    double& measured = measuredOfFace[f];
+    measured = std::max(measured, tri->Deflection());
+    const gp_Trsf trsf = loc.Transformation();
+    const bool reversed = faces[f].Orientation() == TopAbs_REVERSED;
+    std::vector<ProxyMesh::Vertex_index> local(tri->NbNodes() + 1);
+    std::vector<gp_Pnt> nodes(tri->NbNodes() + 1);
+    std::vector<int> ids(tri->NbNodes() + 1);
+    for (int n = 1; n <= tri->NbNodes(); ++n) {
+      nodes[n] = tri->Node(n).Transformed(trsf);
+      local[n] = proxyMesh.add_vertex(KPoint(nodes[n].X(), nodes[n].Y(), nodes[n].Z()));
+      auto it = nodeIds.emplace(std::array<double, 3>{nodes[n].X(), nodes[n].Y(), nodes[n].Z()},
+                                static_cast<int>(nodeIds.size())).first;
+      ids[n] = it->second;
+    }
+    // Measure the real deviation: the surface at a triangle's parametric centroid and edge
+    // midpoints against the flat triangle there. BRepMesh's own figure is an estimate.
+    BRepAdaptor_Surface surface(faces[f], Standard_True);
+    const Handle(Geom_Surface) exactSurface = BRep_Tool::Surface(faces[f]);
+    for (int t = 1; t <= tri->NbTriangles(); ++t) {
+      int a, b, c;
+      tri->Triangle(t).Get(a, b, c);
+      if (reversed) std::swap(b, c);
+      if (ids[a] == ids[b] || ids[b] == ids[c] || ids[a] == ids[c]) continue;  // collapsed at a pole
+      const gp_Vec ab(nodes[a], nodes[b]), ac(nodes[a], nodes[c]);
+      if (ab.Crossed(ac).Magnitude() <= 1e-30 * diagonal * diagonal) continue;
+      // Each triangle gets its own corner vertices: Side_of_triangle_mesh only needs the
+      // triangles, and a soup never fails on non-manifold joins between faces.
+      proxyMesh.add_face(local[a], local[b], local[c]);
+      proxyFaceOfTriangle.push_back(static_cast<int>(f));
+      for (auto [u, v] : {std::pair{ids[a], ids[b]}, std::pair{ids[b], ids[c]}, std::pair{ids[c], ids[a]}})
+        ++edgeUse[{std::min(u, v), std::max(u, v)}];
+      if (tri->HasUVNodes()) {
+        const gp_Pnt2d ua = tri->UVNode(a), ub = tri->UVNode(b), uc = tri->UVNode(c);
+        const std::array<std::array<double, 3>, 4> weights{{{1 / 3., 1 / 3., 1 / 3.}, {.5, .5, 0}, {0, .5, .5}, {.5, 0, .5}}};
+        for (const auto& w : weights) {
+          const gp_Pnt onSurface = surface.Value(w[0] * ua.X() + w[1] * ub.X() + w[2] * uc.X(),
+                                                 w[0] * ua.Y() + w[1] * ub.Y() + w[2] * uc.Y());
+          const gp_Pnt onTriangle(w[0] * nodes[a].X() + w[1] * nodes[b].X() + w[2] * nodes[c].X(),
+                                  w[0] * nodes[a].Y() + w[1] * nodes[b].Y() + w[2] * nodes[c].Y(),
+                                  w[0] * nodes[a].Z() + w[1] * nodes[b].Z() + w[2] * nodes[c].Z());
+          double deviation = onSurface.Distance(onTriangle);
+          // The parametric correspondence only bounds the deviation from above; where the
+          // bound is large (strongly non-uniform parametrisations) ask for the true distance,
+          // so that a distorted parametrisation does not widen the exact band for nothing.
+          if (deviation > requested) {
+            GeomAPI_ProjectPointOnSurf projection(onTriangle, exactSurface);
+            if (projection.IsDone() && projection.NbPoints() > 0)
+              deviation = std::min(deviation, projection.LowerDistance());
+          }
+          measured = std::max(measured, deviation);
+        }
+      }
+    }
+  }
+  // Ray parity only needs every tessellation edge to be used an even number of times (a
+  // closed surface mod 2): BRepMesh sometimes folds a B-spline face onto itself, which uses
+  // edges four times and is harmless.
+  for (const auto& [edge, uses] : edgeUse)
+    if (uses % 2 != 0) ++proxy.unpairedEdges;
+
+  proxy.triangles = proxyFaceOfTriangle.size();
+  // Margin for the deviation between sampled points, plus the model's own tolerance (a
+  // STEP file's edges may sit that far from their faces).
+  // A badly parametrised face deviates more than the rest; keeping its band to itself keeps
+  // the exact (slow) queries near that face only.
+  faceBand.resize(faces.size());
+  proxy.deflection = 0;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const double h = 1.5 * measuredOfFace[f] + maxShapeTolerance;
+    proxy.deflection = std::max(proxy.deflection, h);
+    faceBand[f] = 2 * h + 1e-9 * diagonal;
+  }
+  proxy.exactBand = 2 * proxy.deflection + 1e-9 * diagonal;
+  // A face without triangles or gaps between faces (rays could slip through) make the
+  // proxy unreliable: then every query is answered exactly.
+  proxy.usable = complete && proxy.triangles > 0 && proxy.unpairedEdges == 0;
+  if (proxy.triangles == 0) return;
+  proxyTree = std::make_unique<ProxyTree>(proxyMesh.faces().begin(), proxyMesh.faces().end(), proxyMesh);
+  proxyTree->build();
+  proxyTree->accelerate_distance_queries();  // built now, so that const queries never build
+  if (proxy.usable) proxySide = std::make_unique<ProxySide>(*proxyTree);
+}
+
+Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const {
+  const auto he = proxyMesh.halfedge(f);
+  return Kernel::Triangle_3(proxyMesh.point(proxyMesh.source(he)), proxyMesh.point(proxyMesh.target(he)),
+                            proxyMesh.point(proxyMesh.target(proxyMesh.next(he))));
+}
+
+// The proxy's side answer holds at q when q is outside every face's band: farther from that
+// face's triangles than twice the face's deviation from the B-rep.
+bool BrepSolid::Impl::proxyTrusted(const KPoint& q, double distanceToProxy) const {
+  if (distanceToProxy > proxy.exactBand) return true;
+  std::vector<ProxyTree::Primitive_id> near;
+  proxyTree->all_intersected_primitives(Kernel::Sphere_3(q, proxy.exactBand * proxy.exactBand), std::back_inserter(near));
+  for (const ProxyTree::Primitive_id& id : near) {
+    const double band = faceBand[proxyFaceOfTriangle[static_cast<size_t>(id)]];
+    if (CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(id))) <= band * band) return false;
+  }
+  return true;
+}
+
+bool BrepSolid::Impl::classifyExact(const Point3& p) const {
+  const gp_Pnt q = toGp(p);
+  for (const auto& pool : solids) {
+    if (!pool->box.contains(p, classifyTolerance)) continue;
+    std::unique_ptr<BRepClass3d_SolidClassifier> classifier;
+    {
+      std::lock_guard<std::mutex> lock(pool->mutex);
+      if (!pool->idle.empty()) {
+        classifier = std::move(pool->idle.back());
+        pool->idle.pop_back();
+      }
+    }
+    if (!classifier) {
+      classifier = std::make_unique<BRepClass3d_SolidClassifier>();
+      classifier->Load(pool->solid);
+    }
+    classifier->Perform(q, classifyTolerance);
+    const TopAbs_State state = classifier->State();
+    {
+      std::lock_guard<std::mutex> lock(pool->mutex);
+      pool->idle.push_back(std::move(classifier));
+    }
+    if (state == TopAbs_IN || state == TopAbs_ON) return true;
+  }
+  return false;
+}
+
+BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) const {
+  BoundaryProjection best;
+  // DistShapeShape handles the trimmed face completely: the surface extremum when its
+  // (u,v) classifies inside the face, else the nearest point of the bounding edges.
+  BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(p).Vertex(), faces[face], Extrema_ExtFlag_MIN);
+  if (!dist.IsDone() || dist.NbSolution() == 0) return best;
+  best.point = toPoint3(dist.PointOnShape2(1));
+  best.distance = dist.Value();
+  best.patch = face;
+  return best;
+}
+
+// ------------------------------------------------------------------------------------------
+
+BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name) : impl_(std::make_unique<Impl>()) {
+  impl_->name = std::move(name);
+  const std::string what = "input '" + impl_->name + "'";
+  try {
+    impl_->shape = validatedSolids(shape, what);
+    impl_->box = boxOf(impl_->shape);
+    impl_->diagonal = impl_->box.diagonal();
+    if (!(impl_->diagonal > 0))
+      throw InputError(what + " has an empty bounding box: select a solid that encloses a volume");
+    impl_->classifyTolerance = 1e-9 * impl_->diagonal;
+    impl_->volume = signedVolume(impl_->shape);
+    impl_->index();
+    impl_->buildProxy();
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +
+                     "): check it with Part > Check geometry and repair it");
+  }
+}
+
+BrepSolid::~BrepSolid() = default;
+
+std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const std::string& name) {
+  const std::string what = describe(name, path);
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe)
+      throw InputError(what + " cannot be read: the file does not exist or is not readable; check the path");
+  }
+  const std::string ext = lowerExtension(path);
+  TopoDS_Shape shape;
+  try {
+    if (ext == "step" || ext == "stp") {
+      STEPControl_Reader reader;
+      if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+      if (reader.TransferRoots() == 0)
+        throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
+      shape = reader.OneShape();
+    } else if (ext == "brep" || ext == "brp") {
+      BRep_Builder builder;
+      if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
+        throw InputError(what + " is not a readable BREP file: write it again with Part > Export (*.brep)");
+    } else {
+      throw InputError(what + " has an unsupported file type '." + ext +
+                       "': give a STEP (.step, .stp) or BREP (.brep, .brp) file");
+    }
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
+                     "): export it again from the CAD tool");
+  }
+  try {
+    return std::make_shared<BrepSolid>(shape, name);
+  } catch (const InputError& e) {
+    // Name the file too: the user may have several inputs with similar names.
+    std::string message = e.what();
+    const std::string prefix = "input '" + name + "'";
+    if (message.rfind(prefix, 0) == 0) message = what + message.substr(prefix.size());
+    throw InputError(message);
+  }
+}
+
+std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, const std::string& name) {
+  TopoDS_Shape shape;
+  try {
+    std::istringstream stream(text);
+    BRep_Builder builder;
+    BRepTools::Read(shape, stream, builder);
+  } catch (const Standard_Failure& failure) {
+    throw InputError("input '" + name + "' has BREP text OpenCASCADE cannot read (" +
+                     std::string(failure.GetMessageString()) + "): pass Shape.exportBrepToString() of a solid");
+  }
+  if (shape.IsNull())
+    throw InputError("input '" + name +
+                     "' has BREP text OpenCASCADE cannot read: pass Shape.exportBrepToString() of a solid");
+  return std::make_shared<BrepSolid>(shape, name);
+}
+
+const std::string& BrepSolid::name() const { return impl_->name; }
+Bbox BrepSolid::bbox() const { return impl_->box; }
+double BrepSolid::volume() const { return impl_->volume; }
+const TopoDS_Shape& BrepSolid::shape() const { return impl_->shape; }
+int BrepSolid::faceCount() const { return static_cast<int>(impl_->faces.size()); }
+int BrepSolid::edgeCount() const { return static_cast<int>(impl_->edges.size()); }
+const TopoDS_Face& BrepSolid::face(int index) const { return impl_->faces.at(index); }
+const TopoDS_Edge& BrepSolid::edge(int index) const { return impl_->edges.at(index); }
+const std::vector<int>& BrepSolid::facesOfEdge(int edge) const { return impl_->edgeFaces.at(edge); }
+const BrepSolid::ProxyInfo& BrepSolid::proxyInfo() const { return impl_->proxy; }
+
+bool BrepSolid::insideExact(const Point3& p) const {
+  if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
+  try {
+    return impl_->classifyExact(p);
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to classify a point against input '" + impl_->name + "' (" +
+                failure.GetMessageString() + "): check the solid with Part > Check geometry");
+  }
+}
+
+bool BrepSolid::inside(const Point3& p) const {
+  if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
+  if (impl_->proxySide) {
+    const KPoint q(p[0], p[1], p[2]);
+    const double d = std::sqrt(CGAL::to_double(impl_->proxyTree->squared_distance(q)));
+    // Farther from the tessellation than it can be from the B-rep: both sides agree.
+    if (impl_->proxyTrusted(q, d)) return (*impl_->proxySide)(q) == CGAL::ON_BOUNDED_SIDE;
+  }
+  return insideExact(p);
+}
+
+BoundaryProjection BrepSolid::project(const Point3& p) const {
+  const Impl& m = *impl_;
+  const gp_Pnt q = toGp(p);
+  BoundaryProjection best;
+  try {
+    if (!m.proxyTree) {
+      for (int f = 0; f < faceCount(); ++f) {
+        const BoundaryProjection c = m.projectOnFace(q, f);
+        if (c.distance < best.distance) best = c;
+      }
+      return best;
+    }
+    // The true boundary is within `h` of the proxy, so a face can hold the nearest point only
+    // if its proxy triangles come within d0 + 2h, d0 being the distance to the proxy.
+    const KPoint kq(p[0], p[1], p[2]);
+    const double h = m.proxy.deflection;
+    const double d0 = std::sqrt(CGAL::to_double(m.proxyTree->squared_distance(kq)));
+    const double reach = d0 + 2 * h;
+    std::vector<ProxyTree::Primitive_id> near;
+    m.proxyTree->all_intersected_primitives(Kernel::Sphere_3(kq, reach * reach), std::back_inserter(near));
+    std::map<int, double> faceProxyDistance;
+    for (const ProxyTree::Primitive_id& id : near) {
+      const int f = m.proxyFaceOfTriangle[static_cast<size_t>(id)];
+      const double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(kq, m.proxyTriangle(id))));
+      auto [it, fresh] = faceProxyDistance.emplace(f, d);
+      if (!fresh) it->second = std::min(it->second, d);
+    }
+    std::vector<std::pair<double, int>> candidates;
+    for (const auto& [f, d] : faceProxyDistance) candidates.emplace_back(d, f);
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [proxyDistance, f] : candidates) {
+      if (proxyDistance - h > best.distance) break;  // cannot beat the best exact answer
+      const BoundaryProjection c = m.projectOnFace(q, f);
+      if (c.distance < best.distance) best = c;
+    }
+    // Faces without triangles are not in the tree: check them exactly.
+    if (!m.proxy.usable)
+      for (int f = 0; f < faceCount(); ++f)
+        if (!faceProxyDistance.count(f)) {
+          TopLoc_Location loc;
+          if (!BRep_Tool::Triangulation(m.faces[f], loc).IsNull()) continue;
+          const BoundaryProjection c = m.projectOnFace(q, f);
+          if (c.distance < best.distance) best = c;
+        }
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to project a point onto input '" + m.name + "' (" + failure.GetMessageString() +
+                ")");
+  }
+  return best;
+}
+
+BoundaryProjection BrepSolid::projectOnEdge(const Point3& p, int edgeIndex) const {
+  const Impl& m = *impl_;
+  BoundaryProjection result;
+  try {
+    BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(toGp(p)).Vertex(), m.edges.at(edgeIndex),
+                                    Extrema_ExtFlag_MIN);
+    if (!dist.IsDone() || dist.NbSolution() == 0) return result;
+    result.point = toPoint3(dist.PointOnShape2(1));
+    result.distance = dist.Value();
+    const std::vector<int>& adjacent = m.edgeFaces[edgeIndex];
+    result.patch = adjacent.empty() ? -1 : adjacent.front();
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to project a point onto an edge of input '" + m.name + "' (" +
+                failure.GetMessageString() + ")");
+  }
+  return result;
+}
+
+std::vector<BoundarySample> BrepSolid::boundarySamples(double spacing) const {
+  const Impl& m = *impl_;
+  // Candidates are face-interior points: interior tessellation nodes and the parametric
+  // centroids of tessellation triangles, evaluated on the exact surface. Points on edges are
+  // left out on purpose: the two faces of an edge would give near-duplicate seeds there, and
+  // the edges are seeded by the features anyway.
+  struct Candidate {
+    gp_Pnt point;
+    gp_Vec normal;
+  };
+  const bool thin = spacing > 0 && std::isfinite(spacing);
+  const double cell = thin ? spacing : 1.0;
+  auto cellOf = [&](const gp_Pnt& p) {
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(p.X() / cell)),
+                                  static_cast<int64_t>(std::floor(p.Y() / cell)),
+                                  static_cast<int64_t>(std::floor(p.Z() / cell))};
+  };
+  std::map<std::array<int64_t, 3>, std::vector<Point3>> accepted;
+  auto farFromAccepted = [&](const gp_Pnt& p) {
+    if (!thin) return true;
+    const auto c = cellOf(p);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = accepted.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == accepted.end()) continue;
+          for (const Point3& a : it->second)
+            if (distance(a, toPoint3(p)) < 0.5 * spacing) return false;
+        }
+    return true;
+  };
+
+  std::vector<BoundarySample> samples;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const TopoDS_Face& face = m.faces[f];
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    BRepAdaptor_Surface surface(face, Standard_True);
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    std::vector<gp_Pnt2d> uvs;
+    std::vector<gp_Vec> fallbackNormals;  // triangle normals where the surface normal degenerates
+    if (!tri.IsNull() && tri->HasUVNodes()) {
+      // Interior nodes are those not on any triangle edge that is used once (boundary).
+      std::map<std::pair<int, int>, int> use;
+      for (int t = 1; t <= tri->NbTriangles(); ++t) {
+        int a, b, c;
+        tri->Triangle(t).Get(a, b, c);
+        for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) ++use[{std::min(u, v), std::max(u, v)}];
+      }
+      std::vector<char> onBoundary(tri->NbNodes() + 1, 0);
+      for (const auto& [e, n] : use)
+        if (n == 1) onBoundary[e.first] = onBoundary[e.second] = 1;
+      const gp_Trsf trsf = loc.Transformation();
+      for (int n = 1; n <= tri->NbNodes(); ++n)
+        if (!onBoundary[n]) {
+          uvs.push_back(tri->UVNode(n));
+          fallbackNormals.emplace_back(0, 0, 0);
+        }
+      for (int t = 1; t <= tri->NbTriangles(); ++t) {
+        int a, b, c;
+        tri->Triangle(t).Get(a, b, c);
+        const gp_Pnt2d ua = tri->UVNode(a), ub = tri->UVNode(b), uc = tri->UVNode(c);
+        uvs.emplace_back((ua.X() + ub.X() + uc.X()) / 3, (ua.Y() + ub.Y() + uc.Y()) / 3);
+        const gp_Pnt pa = tri->Node(a).Transformed(trsf), pb = tri->Node(b).Transformed(trsf),
+                     pc = tri->Node(c).Transformed(trsf);
+        gp_Vec n = gp_Vec(pa, pb).Crossed(gp_Vec(pa, pc));
+        if (reversed) n.Reverse();
+        fallbackNormals.push_back(n);
+      }
+    } else {
+      // No tessellation for this face: its parametric middle, if that lies on the face.
+      double u0, u1, v0, v1;
+      BRepTools::UVBounds(face, u0, u1, v0, v1);
+      uvs.emplace_back(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+      fallbackNormals.emplace_back(0, 0, 0);
+    }
+
+    std::vector<Candidate> candidates;
+    for (size_t i = 0; i < uvs.size(); ++i) {
+      gp_Pnt p;
+      gp_Vec du, dv;
+      surface.D1(uvs[i].X(), uvs[i].Y(), p, du, dv);
+      gp_Vec n = du.Crossed(dv);
+      if (reversed) n.Reverse();
+      if (n.Magnitude() <= 1e-12 * std::max(du.Magnitude() * dv.Magnitude(), 1e-300)) n = fallbackNormals[i];
+      if (n.Magnitude() <= 0) continue;
+      candidates.push_back({p, n.Normalized()});
+    }
+    bool faceHasSample = false;
+    for (const Candidate& c : candidates) {
+      if (!farFromAccepted(c.point)) continue;
+      samples.push_back({toPoint3(c.point), toPoint3(gp_Pnt(c.normal.XYZ())), static_cast<int>(f)});
+      if (thin) accepted[cellOf(c.point)].push_back(toPoint3(c.point));
+      faceHasSample = true;
+    }
+    if (!faceHasSample && !candidates.empty()) {
+      // Every face gets a seed, even one smaller than the spacing: take its candidate farthest
+      // from the seeds already placed, so it does not crowd them.
+      size_t bestIndex = 0;
+      double bestGap = -1;
+      for (size_t i = 0; i < candidates.size(); ++i) {
+        double gap = std::numeric_limits<double>::infinity();
+        const auto cc = cellOf(candidates[i].point);
+        for (int64_t dx = -1; dx <= 1; ++dx)
+          for (int64_t dy = -1; dy <= 1; ++dy)
+            for (int64_t dz = -1; dz <= 1; ++dz) {
+              auto it = accepted.find({cc[0] + dx, cc[1] + dy, cc[2] + dz});
+              if (it == accepted.end()) continue;
+              for (const Point3& a : it->second) gap = std::min(gap, distance(a, toPoint3(candidates[i].point)));
+            }
+        if (gap > bestGap) {
+          bestGap = gap;
+          bestIndex = i;
+        }
+      }
+      const Candidate& c = candidates[bestIndex];
+      samples.push_back({toPoint3(c.point), toPoint3(gp_Pnt(c.normal.XYZ())), static_cast<int>(f)});
+      if (thin) accepted[cellOf(c.point)].push_back(toPoint3(c.point));
+    }
+  }
+  return samples;
+}
+
+}  // namespace oraclemesh

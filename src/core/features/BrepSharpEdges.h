@@ -1,0 +1,32 @@
+#pragma once
+// Sharp B-rep edges as constrained segments (thesis §3), and their clipping to the part of
+// the composite boundary that survives the priority composition.
+#include "domain/BrepSolid.h"
+#include "domain/HierarchicalOracle.h"
+#include "features/FeatureGraph.h"
+
+namespace oraclemesh {
+
+// Polylines along the edges of `solid` whose two faces meet at an angle sharper than
+// `sharpAngleDeg` (the angle between the outward face normals exceeds it somewhere along the
+// edge). Seams, degenerated edges and tangent edges are left out; an edge with one face is
+// kept. Each polyline runs from the exact B-rep vertex to the exact B-rep vertex (shared
+// vertices give bitwise-equal end points) through points on the exact curve, with segments
+// no longer than `maxSegmentLength` and a small chord sagitta.
+// Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
+// when the graphs of several solids are merged. `edge` is the 0-based edge index.
+FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
+                               double maxSegmentLength);
+
+constexpr int kCurvesPerSource = 1000000;
+
+// The parts of `graph` that lie on the composite boundary of `oracle`: a polyline of entry i
+// is dropped where it is strictly inside a higher-priority entry; a `cut` entry's polyline is
+// kept only where the region just beyond the cut is material of a lower entry; a material
+// entry's polyline is dropped where it is strictly inside a lower entry of the same material
+// (no interface there). Cuts are located by bisection to ~1e-12 of the diagonal and put back
+// on the B-rep edge, so that new end points lie on the edge and on the cutting surface.
+// Every piece gets a new curve id (0, 1, ... in output order); `source` and `edge` are kept.
+FeatureGraph clipToCompositeBoundary(const FeatureGraph& graph, const HierarchicalOracle& oracle);
+
+}  // namespace oraclemesh

@@ -1,0 +1,127 @@
+#include "mesh/SecondOrder.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "mesh/Quality.h"
+#include "mesh/Topology.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// A curved tet must keep at least this fraction of its straight-sided Jacobian determinant:
+// an element close to folding distorts the solution as badly as a folded one.
+constexpr double kMinJacobianFraction = 0.1;
+
+struct EdgeHash {
+  size_t operator()(const std::array<int64_t, 2>& e) const {
+    uint64_t x = static_cast<uint64_t>(e[0]) * 0x9e3779b97f4a7c15ULL ^ static_cast<uint64_t>(e[1]);
+    x ^= x >> 31;
+    x *= 0xbf58476d1ce4e5b9ULL;
+    x ^= x >> 29;
+    return static_cast<size_t>(x);
+  }
+};
+
+using EdgeKey = std::array<int64_t, 2>;  // smaller vertex index first
+EdgeKey edgeKey(int64_t a, int64_t b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
+
+bool isFinite(const Point3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+}  // namespace
+
+int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
+  requireConsistentIndices(mesh);
+  if (mesh.order() == 2 || mesh.tets.empty()) return 0;
+
+  // Number the edges: first met, first numbered.
+  std::unordered_map<EdgeKey, int64_t, EdgeHash> edgeIndex;
+  edgeIndex.reserve(mesh.tets.size() * 2);
+  std::vector<EdgeKey> edges;
+  std::vector<std::array<int64_t, 6>> edgesOfTet(mesh.tets.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int e = 0; e < 6; ++e) {
+      const EdgeKey key = edgeKey(mesh.tets[t][kTetEdgeCorners[e][0]], mesh.tets[t][kTetEdgeCorners[e][1]]);
+      auto [it, added] = edgeIndex.emplace(key, static_cast<int64_t>(edges.size()));
+      if (added) edges.push_back(key);
+      edgesOfTet[t][e] = it->second;
+    }
+
+  // Tets around each edge (compressed rows), to re-check exactly the tets a mid node bends.
+  std::vector<int64_t> tetsOfEdgeStart(edges.size() + 1, 0);
+  for (const auto& row : edgesOfTet)
+    for (int64_t e : row) ++tetsOfEdgeStart[e + 1];
+  for (size_t e = 0; e < edges.size(); ++e) tetsOfEdgeStart[e + 1] += tetsOfEdgeStart[e];
+  std::vector<int64_t> tetsOfEdge(tetsOfEdgeStart.back());
+  {
+    std::vector<int64_t> fill(tetsOfEdgeStart.begin(), tetsOfEdgeStart.end() - 1);
+    for (size_t t = 0; t < edgesOfTet.size(); ++t)
+      for (int64_t e : edgesOfTet[t]) tetsOfEdge[fill[e]++] = static_cast<int64_t>(t);
+  }
+
+  // Classify edges before any point moves.
+  std::unordered_map<EdgeKey, int, EdgeHash> curveOfFeatureEdge;
+  for (size_t i = 0; i < mesh.feature_edges.size(); ++i)
+    curveOfFeatureEdge[edgeKey(mesh.feature_edges[i][0], mesh.feature_edges[i][1])] =
+        mesh.feature_edge_curves.empty() ? -1 : mesh.feature_edge_curves[i];
+  std::unordered_map<EdgeKey, char, EdgeHash> boundaryEdges;
+  {
+    const std::vector<BoundaryTriangle> derived = mesh.boundary.empty() ? extractBoundary(mesh) : std::vector<BoundaryTriangle>{};
+    const std::vector<BoundaryTriangle>& boundary = mesh.boundary.empty() ? derived : mesh.boundary;
+    for (const BoundaryTriangle& tri : boundary)
+      for (int k = 0; k < 3; ++k) boundaryEdges.emplace(edgeKey(tri.v[k], tri.v[(k + 1) % 3]), 1);
+  }
+
+  // Mid nodes start straight, so every tet starts out as valid as its corners make it.
+  const int64_t firstMidNode = static_cast<int64_t>(mesh.points.size());
+  const bool hasDimensions = !mesh.vertex_dimension.empty();
+  const bool hasCurves = !mesh.vertex_curve.empty();
+  mesh.points.reserve(mesh.points.size() + edges.size());
+  for (const EdgeKey& e : edges) {
+    mesh.points.push_back(0.5 * (mesh.points[e[0]] + mesh.points[e[1]]));
+    auto feature = curveOfFeatureEdge.find(e);
+    if (hasDimensions)
+      mesh.vertex_dimension.push_back(feature != curveOfFeatureEdge.end() ? 1 : boundaryEdges.count(e) ? 2 : 3);
+    if (hasCurves) mesh.vertex_curve.push_back(feature != curveOfFeatureEdge.end() ? feature->second : -1);
+  }
+  mesh.tet_mid_nodes.resize(mesh.tets.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int e = 0; e < 6; ++e) mesh.tet_mid_nodes[t][e] = firstMidNode + edgesOfTet[t][e];
+
+  std::vector<double> straightJacobian(mesh.tets.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& v = mesh.tets[t];
+    straightJacobian[t] = 6.0 * tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]);
+  }
+
+  // Place one edge at a time and re-check the tets around it with the mid nodes placed so
+  // far: each accepted move keeps every tet valid, so the final mesh is valid wherever its
+  // straight-sided version was.
+  int fallbacks = 0;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const int64_t midNode = firstMidNode + static_cast<int64_t>(e);
+    const Point3 straight = mesh.points[midNode];
+    const Point3 placed = place(edges[e][0], edges[e][1], straight);
+    if (placed == straight) continue;
+    bool valid = isFinite(placed);
+    if (valid) {
+      mesh.points[midNode] = placed;
+      for (int64_t i = tetsOfEdgeStart[e]; i < tetsOfEdgeStart[e + 1] && valid; ++i) {
+        const auto t = static_cast<size_t>(tetsOfEdge[i]);
+        const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
+        valid = straightJacobian[t] > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian[t];
+      }
+    }
+    if (!valid) {
+      mesh.points[midNode] = straight;
+      ++fallbacks;
+    }
+  }
+  return fallbacks;
+}
+
+}  // namespace oraclemesh

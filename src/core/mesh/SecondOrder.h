@@ -1,0 +1,32 @@
+#pragma once
+// Quadratic (tet10) elements: one mid node per mesh edge, placed by the caller (on the exact
+// CAD face or edge for boundary edges), kept straight wherever curving would fold a tet.
+#include <cstdint>
+#include <functional>
+
+#include "Geometry.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+// Where the mid node of edge (a, b) goes; `straightMidpoint` = (points[a] + points[b]) / 2.
+// Called once per edge, in the order the mid nodes are created, with a < b.
+using MidNodePlacer = std::function<Point3(int64_t a, int64_t b, const Point3& straightMidpoint)>;
+
+// Turns a first-order mesh into a second-order one:
+//  - one mid node per unique edge, numbered after the existing points in the order the edges
+//    are met going through tets in order and each tet's edges in the order 01,12,20,03,13,23;
+//  - mesh.tet_mid_nodes filled in that edge order;
+//  - vertex_dimension of a mid node: 1 on a feature edge, 2 on an edge of a boundary triangle
+//    (mesh.boundary, or extractBoundary(mesh) when mesh.boundary is empty), 3 otherwise;
+//    vertex_curve: the feature edge's curve id, else -1. Both arrays are only extended when
+//    the mesh has them (empty stays empty).
+// Safety: the placed position is kept only if every tet that has the edge stays valid, i.e.
+// its Jacobian determinant at the four corners and at the centroid is > 0 and at least 10%
+// of the straight-edged tet's (6 x volume), with the mid nodes placed so far. Otherwise the
+// mid node goes back to the straight midpoint (also when the placer returns a non-finite
+// point). Returns the number of such fall-backs.
+// A mesh that is already second order is left unchanged (returns 0).
+int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place);
+
+}  // namespace oraclemesh

@@ -1,0 +1,198 @@
+#include "mesh/Topology.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <unordered_map>
+
+#include "Error.h"
+#include "mesh/Quality.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// Faces opposite corner 0, 1, 2, 3, ordered so that the normal points out of a positively
+// oriented tet.
+constexpr int kOutwardFaceOpposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+uint64_t mixBits(uint64_t x) {  // splitmix64 finalizer: spreads consecutive indices apart
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  x ^= x >> 31;
+  return x;
+}
+
+template <size_t N>
+struct IndexTupleHash {
+  size_t operator()(const std::array<int64_t, N>& key) const {
+    uint64_t h = 0;
+    for (int64_t k : key) h = mixBits(h ^ static_cast<uint64_t>(k));
+    return static_cast<size_t>(h);
+  }
+};
+
+using FaceKey = std::array<int64_t, 3>;  // sorted vertex indices
+
+// One tet face and the (at most two, in a valid mesh) tets that have it.
+struct FaceRecord {
+  int64_t tets[2] = {-1, -1};
+  int local_face[2] = {-1, -1};  // which corner of the tet the face is opposite to
+  int tet_count = 0;
+};
+
+// Faces in the order their first tet (in tets order) meets them, so results built from this
+// table are deterministic.
+std::vector<FaceRecord> buildFaceTable(const TetMesh& mesh) {
+  std::vector<FaceRecord> faces;
+  faces.reserve(mesh.tets.size() * 2 + 16);
+  std::unordered_map<FaceKey, int64_t, IndexTupleHash<3>> indexOfFace;
+  indexOfFace.reserve(mesh.tets.size() * 2 + 16);
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) {
+      const auto& f = kOutwardFaceOpposite[k];
+      FaceKey key{mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
+      std::sort(key.begin(), key.end());
+      auto [it, added] = indexOfFace.emplace(key, static_cast<int64_t>(faces.size()));
+      if (added) faces.emplace_back();
+      FaceRecord& record = faces[it->second];
+      if (record.tet_count < 2) {
+        record.tets[record.tet_count] = static_cast<int64_t>(t);
+        record.local_face[record.tet_count] = k;
+      }
+      ++record.tet_count;
+    }
+  return faces;
+}
+
+BoundaryTriangle triangleOf(const TetMesh& mesh, int64_t tet, int localFace, int materialOut) {
+  const auto& f = kOutwardFaceOpposite[localFace];
+  BoundaryTriangle tri;
+  tri.v = {mesh.tets[tet][f[0]], mesh.tets[tet][f[1]], mesh.tets[tet][f[2]]};
+  tri.material_in = mesh.tet_materials[tet];
+  tri.material_out = materialOut;
+  return tri;
+}
+
+void requireIndex(int64_t index, size_t count, const char* what, size_t owner) {
+  if (index < 0 || static_cast<uint64_t>(index) >= count)
+    throw Error("internal error: " + std::string(what) + " " + std::to_string(owner) + " refers to point " +
+                std::to_string(index) + " but the mesh has " + std::to_string(count) +
+                " points; please report this with the job file");
+}
+
+void requireLength(size_t length, size_t expected, const char* what, bool emptyAllowed) {
+  if (length == expected || (emptyAllowed && length == 0)) return;
+  throw Error("internal error: the mesh has " + std::to_string(length) + " " + what + " where " +
+              std::to_string(expected) + " are expected; please report this with the job file");
+}
+
+}  // namespace
+
+void requireConsistentIndices(const TetMesh& mesh) {
+  const size_t n = mesh.points.size();
+  requireLength(mesh.tet_materials.size(), mesh.tets.size(), "tet material ids", false);
+  requireLength(mesh.tet_mid_nodes.size(), mesh.tets.size(), "tet mid-node rows", true);
+  requireLength(mesh.feature_edge_curves.size(), mesh.feature_edges.size(), "feature edge curve ids", true);
+  requireLength(mesh.vertex_dimension.size(), n, "vertex dimensions", true);
+  requireLength(mesh.vertex_curve.size(), n, "vertex curve ids", true);
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    for (int64_t v : mesh.tets[t]) requireIndex(v, n, "tet", t);
+    if (!mesh.tet_mid_nodes.empty())
+      for (int64_t v : mesh.tet_mid_nodes[t]) requireIndex(v, n, "mid node of tet", t);
+  }
+  for (size_t i = 0; i < mesh.boundary.size(); ++i)
+    for (int64_t v : mesh.boundary[i].v) requireIndex(v, n, "boundary triangle", i);
+  for (size_t i = 0; i < mesh.feature_edges.size(); ++i)
+    for (int64_t v : mesh.feature_edges[i]) requireIndex(v, n, "feature edge", i);
+}
+
+std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh) {
+  requireConsistentIndices(mesh);
+  std::vector<BoundaryTriangle> boundary;
+  for (const FaceRecord& face : buildFaceTable(mesh)) {
+    if (face.tet_count == 1) {
+      boundary.push_back(triangleOf(mesh, face.tets[0], face.local_face[0], 0));
+    } else if (face.tet_count == 2) {
+      const int m0 = mesh.tet_materials[face.tets[0]], m1 = mesh.tet_materials[face.tets[1]];
+      if (m0 == m1) continue;
+      const int side = m0 < m1 ? 0 : 1;  // the smaller material id is the inside
+      boundary.push_back(triangleOf(mesh, face.tets[side], face.local_face[side], std::max(m0, m1)));
+    }
+  }
+  return boundary;
+}
+
+ConformityReport checkConformity(const TetMesh& mesh) {
+  requireConsistentIndices(mesh);
+  ConformityReport report;
+
+  // Each material's region must be closed: every edge of its boundary faces is used an even
+  // number of times by them (twice on a manifold edge, four times where two parts of the
+  // region touch along an edge).
+  std::unordered_map<std::array<int64_t, 3>, int64_t, IndexTupleHash<3>> edgeUseByMaterial;
+  auto addFaceEdges = [&](int material, int64_t tet, int localFace) {
+    const auto& f = kOutwardFaceOpposite[localFace];
+    for (int k = 0; k < 3; ++k) {
+      int64_t a = mesh.tets[tet][f[k]], b = mesh.tets[tet][f[(k + 1) % 3]];
+      if (a > b) std::swap(a, b);
+      ++edgeUseByMaterial[{static_cast<int64_t>(material), a, b}];
+    }
+  };
+  for (const FaceRecord& face : buildFaceTable(mesh)) {
+    if (face.tet_count > 2) {
+      ++report.faces_shared_by_more_than_two;
+      continue;
+    }
+    if (face.tet_count == 1) {
+      addFaceEdges(mesh.tet_materials[face.tets[0]], face.tets[0], face.local_face[0]);
+    } else if (mesh.tet_materials[face.tets[0]] != mesh.tet_materials[face.tets[1]]) {
+      for (int side = 0; side < 2; ++side)
+        addFaceEdges(mesh.tet_materials[face.tets[side]], face.tets[side], face.local_face[side]);
+    }
+  }
+  for (const auto& [edge, uses] : edgeUseByMaterial)
+    if (uses % 2 != 0) ++report.open_boundary_edges;
+
+  const bool quadratic = mesh.order() == 2;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& v = mesh.tets[t];
+    bool inverted = tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]) <= 0;
+    if (!inverted && quadratic) inverted = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t)) <= 0;
+    if (inverted) ++report.inverted_tets;
+  }
+
+  std::vector<char> used(mesh.points.size(), 0);
+  for (const auto& tet : mesh.tets)
+    for (int64_t v : tet) used[v] = 1;
+
+  if (quadratic) {
+    // Each mid node must belong to exactly one edge and each edge must have one mid node;
+    // a disagreement means two neighbours are not connected along that edge.
+    std::unordered_map<std::array<int64_t, 2>, int64_t, IndexTupleHash<2>> midNodeOfEdge;
+    std::unordered_map<int64_t, std::array<int64_t, 2>> edgeOfMidNode;
+    std::unordered_map<std::array<int64_t, 2>, char, IndexTupleHash<2>> edgeAlreadyCounted;
+    std::vector<char> isCorner = used;
+    for (size_t t = 0; t < mesh.tets.size(); ++t)
+      for (int e = 0; e < 6; ++e) {
+        int64_t a = mesh.tets[t][kTetEdgeCorners[e][0]], b = mesh.tets[t][kTetEdgeCorners[e][1]];
+        if (a > b) std::swap(a, b);
+        const std::array<int64_t, 2> edge{a, b};
+        const int64_t mid = mesh.tet_mid_nodes[t][e];
+        used[mid] = 1;
+        bool consistent = !isCorner[mid];
+        auto [edgeIt, newEdge] = midNodeOfEdge.emplace(edge, mid);
+        if (!newEdge && edgeIt->second != mid) consistent = false;
+        auto [midIt, newMid] = edgeOfMidNode.emplace(mid, edge);
+        if (!newMid && midIt->second != edge) consistent = false;
+        // Count each offending edge once, however many of its tets disagree.
+        if (!consistent && edgeAlreadyCounted.emplace(edge, 1).second) ++report.inconsistent_mid_nodes;
+      }
+  }
+  report.unused_points = std::count(used.begin(), used.end(), 0);
+  return report;
+}
+
+}  // namespace oraclemesh

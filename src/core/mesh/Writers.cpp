@@ -1,0 +1,211 @@
+#include "mesh/Writers.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <vector>
+
+#include "Error.h"
+#include "mesh/Topology.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// A C stdio file (fast formatted output of millions of numbers) that closes itself and turns
+// every failure into an Error naming the path.
+class OutputFile {
+ public:
+  explicit OutputFile(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
+    if (!file_)
+      throw Error("cannot write the mesh file '" + path + "': " + std::strerror(errno) +
+                  "; check that the folder exists and is writable");
+    std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+  }
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile() {
+    if (file_) std::fclose(file_);
+  }
+
+  template <typename... Args>
+  void print(const char* format, Args... args) {
+    std::fprintf(file_, format, args...);
+  }
+  void print(const char* text) { std::fputs(text, file_); }
+
+  // Flushes and closes; a full disk shows up here rather than being lost in a destructor.
+  void close() {
+    const bool failed = std::ferror(file_) != 0;
+    const int closeResult = std::fclose(file_);
+    file_ = nullptr;
+    if (failed || closeResult != 0)
+      throw Error("writing the mesh file '" + path_ + "' failed (disk full or file system error?)");
+  }
+
+ private:
+  std::string path_;
+  std::FILE* file_;
+};
+
+constexpr int kVtkTetra = 10;
+constexpr int kVtkQuadraticTetra = 24;
+
+// CalculiX reads each *NODE coordinate from the first 20 characters of its field (Fortran
+// format f20.0) and stops with "*ERROR reading *NODE" on a longer one, such as %.17g of
+// 3.3333333333333337e-06. So: the shortest of %.15g..%.17g that reads back exactly, if it
+// fits in 20 characters; otherwise the most digits that fit: at least 14 significant digits
+// (relative rounding <= 5e-14) for two-digit exponents, 13 for three-digit ones, far below
+// the 1e-9 to which boundary nodes are placed on the CAD faces.
+constexpr int kCalculixNumberWidth = 20;
+
+std::string inpCoordinate(double x) {
+  char text[64];
+  for (int digits = 15; digits <= 17; ++digits) {
+    const int length = std::snprintf(text, sizeof text, "%.*g", digits, x);
+    if (std::strtod(text, nullptr) == x) {
+      if (length <= kCalculixNumberWidth) return text;
+      break;
+    }
+  }
+  // Ends at the latest with 13 digits: "-1.234567890123e-300" has 20 characters.
+  for (int digits = 17;; --digits)
+    if (std::snprintf(text, sizeof text, "%.*g", digits, x) <= kCalculixNumberWidth) return text;
+}
+
+std::string lowerCaseExtension(const std::string& path) {
+  const size_t slash = path.find_last_of("/\\");
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Node indices of tet t in the node order shared by VTK's quadratic tetra and Abaqus' C3D10
+// (corners, then mid nodes 01, 12, 20, 03, 13, 23 = 12, 23, 31, 14, 24, 34 one-based), which
+// is also TetMesh's.
+struct ElementNodes {
+  std::array<int64_t, 10> index{};
+  int count = 0;
+};
+
+ElementNodes elementNodes(const TetMesh& mesh, size_t t) {
+  ElementNodes nodes;
+  for (int64_t v : mesh.tets[t]) nodes.index[nodes.count++] = v;
+  if (mesh.order() == 2)
+    for (int64_t v : mesh.tet_mid_nodes[t]) nodes.index[nodes.count++] = v;
+  return nodes;
+}
+
+// NaN or infinite coordinates would make a file that every reader rejects or misreads.
+void requireFinitePoints(const TetMesh& mesh, const std::string& path) {
+  for (size_t i = 0; i < mesh.points.size(); ++i)
+    for (double c : mesh.points[i])
+      if (!std::isfinite(c))
+        throw Error("internal error: point " + std::to_string(i) + " of the mesh for '" + path +
+                    "' has a non-finite coordinate; please report this with the job file");
+}
+
+}  // namespace
+
+void writeVtu(const std::string& path, const TetMesh& mesh) {
+  requireConsistentIndices(mesh);
+  requireFinitePoints(mesh, path);
+  const int nodesPerCell = mesh.order() == 2 ? 10 : 4;
+  const int cellType = mesh.order() == 2 ? kVtkQuadraticTetra : kVtkTetra;
+  OutputFile out(path);
+  out.print("<?xml version=\"1.0\"?>\n");
+  out.print("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+  out.print("  <UnstructuredGrid>\n");
+  out.print("    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", mesh.points.size(), mesh.tets.size());
+
+  if (mesh.vertex_dimension.size() == mesh.points.size() && !mesh.points.empty()) {
+    out.print("      <PointData>\n");
+    out.print("        <DataArray type=\"Int32\" Name=\"vertex_dimension\" format=\"ascii\">\n");
+    for (int d : mesh.vertex_dimension) out.print("%d\n", d);
+    out.print("        </DataArray>\n");
+    out.print("      </PointData>\n");
+  }
+  out.print("      <CellData>\n");
+  out.print("        <DataArray type=\"Int32\" Name=\"material\" format=\"ascii\">\n");
+  for (int m : mesh.tet_materials) out.print("%d\n", m);
+  out.print("        </DataArray>\n");
+  out.print("      </CellData>\n");
+
+  out.print("      <Points>\n");
+  out.print("        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+  for (const Point3& p : mesh.points) out.print("%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+  out.print("        </DataArray>\n");
+  out.print("      </Points>\n");
+
+  out.print("      <Cells>\n");
+  out.print("        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const ElementNodes nodes = elementNodes(mesh, t);
+    for (int i = 0; i < nodes.count; ++i)
+      out.print(i + 1 < nodes.count ? "%lld " : "%lld\n", static_cast<long long>(nodes.index[i]));
+  }
+  out.print("        </DataArray>\n");
+  out.print("        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    out.print("%lld\n", static_cast<long long>((t + 1) * nodesPerCell));
+  out.print("        </DataArray>\n");
+  out.print("        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  for (size_t t = 0; t < mesh.tets.size(); ++t) out.print("%d\n", cellType);
+  out.print("        </DataArray>\n");
+  out.print("      </Cells>\n");
+  out.print("    </Piece>\n");
+  out.print("  </UnstructuredGrid>\n");
+  out.print("</VTKFile>\n");
+  out.close();
+}
+
+void writeInp(const std::string& path, const TetMesh& mesh) {
+  requireConsistentIndices(mesh);
+  requireFinitePoints(mesh, path);
+  const char* elementType = mesh.order() == 2 ? "C3D10" : "C3D4";
+  OutputFile out(path);
+  out.print("** OracleMesh tetrahedral mesh: %zu nodes, %zu %s elements\n", mesh.points.size(), mesh.tets.size(),
+            elementType);
+  out.print("** element sets Material<id> (one per material) and Eall (all elements)\n");
+  out.print("*NODE, NSET=Nall\n");
+  for (size_t i = 0; i < mesh.points.size(); ++i)
+    out.print("%zu, %s, %s, %s\n", i + 1, inpCoordinate(mesh.points[i][0]).c_str(),
+              inpCoordinate(mesh.points[i][1]).c_str(), inpCoordinate(mesh.points[i][2]).c_str());
+
+  // Element ids stay tet index + 1, so a result on element k maps back to tets[k - 1].
+  std::map<int, std::vector<size_t>> tetsOfMaterial;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) tetsOfMaterial[mesh.tet_materials[t]].push_back(t);
+  for (const auto& [material, tets] : tetsOfMaterial) {
+    out.print("*ELEMENT, TYPE=%s, ELSET=Material%d\n", elementType, material);
+    for (size_t t : tets) {
+      out.print("%zu", t + 1);
+      const ElementNodes nodes = elementNodes(mesh, t);
+      for (int i = 0; i < nodes.count; ++i) out.print(", %lld", static_cast<long long>(nodes.index[i] + 1));
+      out.print("\n");
+    }
+  }
+  if (!tetsOfMaterial.empty()) {
+    out.print("*ELSET, ELSET=Eall\n");
+    for (const auto& [material, tets] : tetsOfMaterial) out.print("Material%d\n", material);
+  }
+  out.close();
+}
+
+void writeMeshFile(const std::string& path, const TetMesh& mesh) {
+  const std::string ext = lowerCaseExtension(path);
+  if (ext == ".vtu") return writeVtu(path, mesh);
+  if (ext == ".inp") return writeInp(path, mesh);
+  const std::string problem = ext.empty() ? "it has no file extension" : "unknown extension '" + ext + "'";
+  throw InputError("cannot write the mesh file '" + path + "': " + problem +
+                   "; supported mesh file extensions are .vtu (VTK, ParaView) and .inp (Abaqus / CalculiX)");
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,30 @@
+#pragma once
+// Mesh files for solvers and viewers. Coordinates are written so that they read back exactly
+// (17 significant digits where needed), so nodes put exactly on CAD faces stay there; the one
+// exception is noted at writeInp.
+// Failures to open or write a file throw oraclemesh::Error naming the path.
+#include <string>
+
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+// VTK XML unstructured grid, ASCII (ParaView, meshio). Cells are VTK_TETRA (10) or
+// VTK_QUADRATIC_TETRA (24, node order = TetMesh's: corners, then mid nodes 01,12,20,03,13,23).
+// Cell data "material" (Int32); point data "vertex_dimension" (Int32) when the mesh has it.
+void writeVtu(const std::string& path, const TetMesh& mesh);
+
+// Abaqus / CalculiX input deck: *NODE (NSET=Nall), then one *ELEMENT block per material with
+// ELSET=Material<id>, TYPE=C3D4 or C3D10, and *ELSET Eall naming every element. Node ids are
+// point index + 1, element ids are tet index + 1. C3D10 node order is corners 1-4, then mid
+// nodes 12, 23, 31, 14, 24, 34, corners with positive volume (what ccx requires).
+// Coordinates: CalculiX reads at most 20 characters per coordinate, so a number whose exact
+// form is longer (e.g. 3.3333333333333337e-06) is rounded to the most digits that fit, at
+// least 14 significant ones (relative error <= 5e-14; 13 digits for |x| < 1e-99 or > 1e99).
+void writeInp(const std::string& path, const TetMesh& mesh);
+
+// Writes by file extension (case-insensitive): .vtu or .inp. Any other extension throws
+// oraclemesh::InputError naming the path and the supported extensions.
+void writeMeshFile(const std::string& path, const TetMesh& mesh);
+
+}  // namespace oraclemesh
