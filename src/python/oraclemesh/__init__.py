@@ -7,6 +7,7 @@
 The job dict is the job contract of DESIGN.md (the same JSON the `oraclemesh` CLI reads).
 """
 import json
+import math
 import os
 
 from . import _core
@@ -43,6 +44,24 @@ class Result:
         return "<oraclemesh.Result %d points, %d tets>" % (len(self.points), len(self.tets))
 
 
+def _first_non_finite(value, path):
+    """Key path of the first NaN or infinity in a job (JSON has no such numbers)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return path or "the job"
+    if isinstance(value, dict):
+        items = ((str(k), v) for k, v in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = (("[%d]" % i, v) for i, v in enumerate(value))
+    else:
+        return None
+    for key, item in items:
+        where = path + key if key.startswith("[") else (path + "." + key if path else key)
+        found = _first_non_finite(item, where)
+        if found:
+            return found
+    return None
+
+
 def run(job, progress=None, base_directory=None):
     """Run a job (dict, or path to a JSON job file) and return a Result.
 
@@ -61,8 +80,11 @@ def run(job, progress=None, base_directory=None):
             raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
         base = base_directory or os.path.dirname(os.path.abspath(path))
     else:
+        bad = _first_non_finite(job, "")
+        if bad:
+            raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
         try:
-            text = json.dumps(job)
+            text = json.dumps(job, allow_nan=False)
         except (TypeError, ValueError) as e:
             raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
                              "strings and numbers" % e) from None
