@@ -2,6 +2,7 @@
 // wins the overlap by priority) with a cut box removing one corner of the plate. Checked
 // against OpenCASCADE itself: Boolean volumes, exact distances to faces and edges.
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Section.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepGProp.hxx>
@@ -114,6 +115,10 @@ TEST(DemoAssembly, FeatureEdgesLieOnBrepEdges) {
   builder.MakeCompound(edges);
   for (const TopoDS_Shape& s : {a.pin, a.plate, a.cut})
     for (TopExp_Explorer e(s, TopAbs_EDGE); e.More(); e.Next()) builder.Add(edges, e.Current());
+  // Junction curves: where the pin and the cut box cross the plate's boundary.
+  for (const TopoDS_Shape& s : {a.pin, a.cut})
+    for (TopExp_Explorer e(BRepAlgoAPI_Section(s, a.plate).Shape(), TopAbs_EDGE); e.More(); e.Next())
+      builder.Add(edges, e.Current());
   const TetMesh& mesh = demoResult(1).mesh;
   ASSERT_GT(mesh.feature_edges.size(), 20u);
   const double pinRadius = 5;

@@ -11,6 +11,8 @@ struct FeaturePolyline {
   int curve = -1;              // curve id, unique within the FeatureGraph
   int source = -1;             // index of the oracle entry the curve belongs to
   int edge = -1;               // B-rep edge index within that source (-1: not a B-rep edge)
+  int junction = -1;           // index into JunctionCurves when the polyline runs along a
+                               // junction curve (source and edge are then -1)
 };
 
 struct FeatureGraph {

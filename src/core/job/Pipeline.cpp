@@ -11,6 +11,7 @@
 #include "domain/BrepSolid.h"
 #include "domain/Sphere.h"
 #include "features/BrepSharpEdges.h"
+#include "features/JunctionCurves.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
 #include "mesh/Topology.h"
@@ -109,6 +110,8 @@ void checkExpectedSize(const JobSpec& job, const std::vector<OracleEntry>& entri
 struct CurveOrigin {
   int entry = -1;
   int edge = -1;
+  int junction = -1;                               // junction curve index, then entry = edge = -1
+  std::shared_ptr<const JunctionCurves> junctions;  // owns the junction edges for the run
 };
 
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
@@ -128,7 +131,11 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     }
   }
   FeatureGraph clipped = clipToCompositeBoundary(all, oracle);
-  for (const FeaturePolyline& pl : clipped.polylines) origins[pl.curve] = {pl.source, pl.edge};
+  // Where two inputs' boundaries cross (pin leaving the plate, cut faces across the plate).
+  auto junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg));
+  clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
+  for (const FeaturePolyline& pl : clipped.polylines)
+    origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr};
   return clipped;
 }
 
@@ -147,6 +154,7 @@ struct SnapResult {
 };
 
 BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveOrigin& origin, const Point3& p) {
+  if (origin.junction >= 0 && origin.junctions) return origin.junctions->projectOnCurve(origin.junction, p);
   if (origin.entry < 0 || origin.edge < 0) return {};
   const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[origin.entry].source.get());
   if (!solid) return {};

@@ -13,9 +13,12 @@ namespace oraclemesh {
 
 namespace {
 
-// A curved tet must keep at least this fraction of its straight-sided Jacobian determinant:
-// an element close to folding distorts the solution as badly as a folded one.
-constexpr double kMinJacobianFraction = 0.1;
+// A curved tet must keep at least this fraction of its straight-sided Jacobian determinant
+// (at corners and centroid). Kept low on purpose: a mid node left off the CAD face is missed
+// by FreeCAD's constraint-node search, and a flat tet whose four corners lie on one curved
+// face (two opposite edges on the face) keeps only ~0.5% of it once both edges follow the
+// face, while staying valid.
+constexpr double kMinJacobianFraction = 0.002;
 
 struct EdgeHash {
   size_t operator()(const std::array<int64_t, 2>& e) const {
@@ -101,27 +104,36 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
   // Place one edge at a time and re-check the tets around it with the mid nodes placed so
   // far: each accepted move keeps every tet valid, so the final mesh is valid wherever its
   // straight-sided version was.
-  int fallbacks = 0;
-  for (size_t e = 0; e < edges.size(); ++e) {
-    const int64_t midNode = firstMidNode + static_cast<int64_t>(e);
-    const Point3 straight = mesh.points[midNode];
-    const Point3 placed = place(edges[e][0], edges[e][1], straight);
-    if (placed == straight) continue;
-    bool valid = isFinite(placed);
-    if (valid) {
-      mesh.points[midNode] = placed;
-      for (int64_t i = tetsOfEdgeStart[e]; i < tetsOfEdgeStart[e + 1] && valid; ++i) {
-        const auto t = static_cast<size_t>(tetsOfEdge[i]);
-        const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
-        valid = straightJacobian[t] > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian[t];
+  // An edge refused in one pass may fit once its neighbours have curved too (a thin tet
+  // hugging a curved face only stays valid when all its edges follow the face), so refused
+  // edges get further passes while they make progress.
+  std::vector<size_t> pending(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) pending[e] = e;
+  for (int pass = 0; pass < 4 && !pending.empty(); ++pass) {
+    std::vector<size_t> refused;
+    for (size_t e : pending) {
+      const int64_t midNode = firstMidNode + static_cast<int64_t>(e);
+      const Point3 straight = 0.5 * (mesh.points[edges[e][0]] + mesh.points[edges[e][1]]);
+      const Point3 placed = place(edges[e][0], edges[e][1], straight);
+      if (placed == straight) continue;
+      bool valid = isFinite(placed);
+      if (valid) {
+        mesh.points[midNode] = placed;
+        for (int64_t i = tetsOfEdgeStart[e]; i < tetsOfEdgeStart[e + 1] && valid; ++i) {
+          const auto t = static_cast<size_t>(tetsOfEdge[i]);
+          const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
+          valid = straightJacobian[t] > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian[t];
+        }
+      }
+      if (!valid) {
+        mesh.points[midNode] = straight;
+        refused.push_back(e);
       }
     }
-    if (!valid) {
-      mesh.points[midNode] = straight;
-      ++fallbacks;
-    }
+    if (refused.size() == pending.size()) break;  // no progress
+    pending = std::move(refused);
   }
-  return fallbacks;
+  return static_cast<int>(pending.size());
 }
 
 }  // namespace oraclemesh
