@@ -11,6 +11,7 @@
 #include "domain/BrepSolid.h"
 #include "domain/Sphere.h"
 #include "features/BrepSharpEdges.h"
+#include "features/CoincidentFeatures.h"
 #include "features/JunctionCurves.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
@@ -134,6 +135,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // Where two inputs' boundaries cross (pin leaving the plate, cut faces across the plate).
   auto junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg));
   clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
+  clipped = removeCoincidentFeatures(clipped, oracle);
   for (const FeaturePolyline& pl : clipped.polylines)
     origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr};
   return clipped;

@@ -1,0 +1,117 @@
+#include "features/CoincidentFeatures.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace oraclemesh {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double distanceToSegment(const Point3& p, const Point3& a, const Point3& b, double* parameter = nullptr) {
+  const Point3 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  if (parameter) *parameter = t;
+  return distance(p, a + t * ab);
+}
+
+double distanceToPolyline(const Point3& p, const FeaturePolyline& pl) {
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i + 1 < pl.points.size(); ++i)
+    best = std::min(best, distanceToSegment(p, pl.points[i], pl.points[i + 1]));
+  return best;
+}
+
+// Inserts the vertices of `other` that lie on `pl` (strictly inside a segment) into `pl`.
+void insertVerticesOf(FeaturePolyline& pl, const FeaturePolyline& other, double tol) {
+  std::vector<Point3> out;
+  for (size_t i = 0; i + 1 < pl.points.size(); ++i) {
+    const Point3 a = pl.points[i], b = pl.points[i + 1];
+    out.push_back(a);
+    std::vector<std::pair<double, Point3>> inside;
+    for (const Point3& q : other.points) {
+      double t = 0;
+      if (distanceToSegment(q, a, b, &t) < tol && distance(q, a) > tol && distance(q, b) > tol) inside.emplace_back(t, q);
+    }
+    std::sort(inside.begin(), inside.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [t, q] : inside) out.push_back(q);
+  }
+  out.push_back(pl.points.back());
+  pl.points = std::move(out);
+}
+
+// True when the composite boundary is flat across the segment at p: a ring of labels around
+// the segment changes exactly twice, half a turn apart.
+bool flatAcross(const HierarchicalOracle& oracle, const Point3& p, const Point3& tangent, double radius) {
+  Point3 any = std::abs(tangent[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0};
+  Point3 e1 = cross(tangent, any);
+  e1 = (1.0 / norm(e1)) * e1;
+  const Point3 e2 = cross(tangent, e1);
+  constexpr int kRing = 36;
+  std::vector<int> labels(kRing);
+  for (int k = 0; k < kRing; ++k) {
+    const double angle = 2 * kPi * (k + 0.5) / kRing;
+    labels[k] = oracle.label(p + radius * (std::cos(angle) * e1 + std::sin(angle) * e2));
+  }
+  std::vector<int> changes;
+  for (int k = 0; k < kRing; ++k)
+    if (labels[k] != labels[(k + 1) % kRing]) changes.push_back(k);
+  if (changes.size() != 2) return changes.empty();
+  const int apart = changes[1] - changes[0];
+  return std::abs(apart - kRing / 2) <= 1;  // within 10 degrees of a straight angle
+}
+
+}  // namespace
+
+FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle) {
+  const double tol = 1e-7 * oracle.diagonal();
+  const double ring = 1e-4 * oracle.diagonal();
+  FeatureGraph result;
+  std::vector<FeaturePolyline> kept;
+  for (const FeaturePolyline& original : graph.polylines) {
+    FeaturePolyline pl = original;
+    for (const FeaturePolyline& earlier : kept) insertVerticesOf(pl, earlier, tol);
+    const int entry = pl.source;
+    // Split into runs of segments that are neither on an earlier polyline nor flat.
+    std::vector<Point3> run;
+    auto flush = [&]() {
+      if (run.size() >= 2) {
+        FeaturePolyline piece = pl;
+        piece.points = run;
+        kept.push_back(std::move(piece));
+      }
+      run.clear();
+    };
+    for (size_t i = 0; i + 1 < pl.points.size(); ++i) {
+      const Point3 a = pl.points[i], b = pl.points[i + 1];
+      const Point3 mid = 0.5 * (a + b);
+      bool drop = std::any_of(kept.begin(), kept.end(), [&](const FeaturePolyline& e) {
+        return distanceToPolyline(mid, e) < tol && distanceToPolyline(a, e) < tol && distanceToPolyline(b, e) < tol;
+      });
+      if (!drop && entry > 0) {
+        // On the boundary of a higher entry: keep only where the composite has a crease.
+        for (int i2 = 0; i2 < entry && !drop; ++i2)
+          if (oracle.entries()[i2].source->project(mid).distance < tol) {
+            const double len = distance(a, b);
+            drop = len > 0 && flatAcross(oracle, mid, (1.0 / len) * (b - a), ring);
+          }
+      }
+      if (drop) {
+        flush();
+        continue;
+      }
+      if (run.empty()) run.push_back(a);
+      run.push_back(b);
+    }
+    flush();
+  }
+  int curve = 0;
+  for (FeaturePolyline& pl : kept) {
+    pl.curve = curve++;
+    result.polylines.push_back(std::move(pl));
+  }
+  return result;
+}
+
+}  // namespace oraclemesh
