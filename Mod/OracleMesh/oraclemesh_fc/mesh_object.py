@@ -1,0 +1,209 @@
+"""The OracleMesh FEM mesh object: a Fem::FemMeshObjectPython whose recompute runs the core.
+
+Its properties are the job (inputs in priority order, cuts, sizes, element order, sharp-edge
+angle); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
+with the result, one volume group per material (see job.volume_groups). On any error the
+previous FemMesh stays as it was, the error is printed to the report view (and shown in a
+message box in the GUI) and execute() raises, so FreeCAD marks the object as failed.
+"""
+import json
+
+import FreeCAD
+
+from .handoff import build_femmesh
+from .job import build_job
+from .runner import import_core, run_job
+
+TYPE = "Fem::OracleMesh"
+
+
+class MeshingFailed(Exception):
+    """Raised from execute() so FreeCAD marks the object invalid; the text is for the user."""
+
+
+# (type, name, group, tooltip, default)
+PROPERTIES = (
+    ("App::PropertyLinkList", "Inputs", "Inputs",
+     "Solids to mesh, highest priority first: where inputs overlap, the earlier one wins", None),
+    ("App::PropertyLinkList", "Cuts", "Inputs",
+     "Regions removed from every input (a cut also listed in Inputs acts only on the inputs "
+     "after it)", None),
+    ("App::PropertyMap", "InputSizes", "Sizes",
+     "Per-input sizes: key = Name or Label of an input, value = a cell size ('1.5') or "
+     "'cell_size=1.5 facet_distance=0.05'", None),
+    ("App::PropertyLength", "CellSize", "Sizes",
+     "Largest tetrahedron circumradius (0 = automatic: model diagonal / 15)", 0.0),
+    ("App::PropertyFloat", "CellRadiusEdgeRatio", "Sizes",
+     "Largest circumradius / shortest edge of a tetrahedron (0 = automatic: 2)", 0.0),
+    ("App::PropertyLength", "FacetSize", "Sizes",
+     "Largest surface triangle size (0 = automatic: the cell size)", 0.0),
+    ("App::PropertyLength", "FacetDistance", "Sizes",
+     "Largest distance of a surface triangle from the CAD surface (0 = automatic: facet size/10)",
+     0.0),
+    ("App::PropertyAngle", "FacetAngle", "Sizes",
+     "Smallest surface triangle angle, at most 30 degrees (0 = automatic: 25)", 0.0),
+    ("App::PropertyLength", "EdgeSize", "Sizes",
+     "Largest segment length along sharp edges (0 = automatic: facet size/2)", 0.0),
+    ("App::PropertyIntegerConstraint", "ElementOrder", "Mesh",
+     "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
+     (2, 1, 2, 1)),
+    ("App::PropertyAngle", "SharpAngle", "Mesh",
+     "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = off)",
+     30.0),
+    ("App::PropertyBool", "Optimize", "Mesh", "Remove slivers (perturb and exude)", True),
+    ("App::PropertyInteger", "Seed", "Mesh", "Random seed (the same job gives the same mesh)", 0),
+    ("App::PropertyInteger", "MaxVertices", "Limits",
+     "Refuse jobs that would need more vertices than this", 5000000),
+    ("App::PropertyFloat", "TimeLimit", "Limits", "Stop meshing after this many seconds", 3600.0),
+    ("App::PropertyStringList", "OutputFiles", "Output",
+     "Mesh files the core also writes (.vtu, .inp), optional", None),
+    ("App::PropertyString", "OutputReport", "Output",
+     "Path of the JSON report the core also writes, optional", ""),
+    ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
+    ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
+)
+READ_ONLY = ("Status", "Report")
+
+
+class OracleMeshProxy:
+    """Proxy of the mesh object. Stateless: everything lives in the object's properties."""
+
+    Type = TYPE
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.add_properties(obj)
+
+    @staticmethod
+    def add_properties(obj):
+        # Also called on restore, so documents saved by older versions gain new properties.
+        for ptype, name, group, tip, default in PROPERTIES:
+            if hasattr(obj, name):
+                continue
+            obj.addProperty(ptype, name, group, tip)
+            if default is not None:
+                setattr(obj, name, default)
+            if name in READ_ONLY:
+                obj.setEditorMode(name, 1)
+
+    def onDocumentRestored(self, obj):
+        self.add_properties(obj)
+
+    def execute(self, obj):
+        try:
+            job, groups, described = build_job(obj)
+            result = run_job(job, obj.Label)
+            femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups)
+        except Exception as e:
+            message = "OracleMesh '%s' failed, the previous mesh is kept: %s" % (
+                obj.Label, error_text(e))
+            obj.Status = message
+            FreeCAD.Console.PrintError(message + "\n")
+            if FreeCAD.GuiUp:
+                show_error(message)
+            raise MeshingFailed(message) from None
+
+        report = dict(result.report)
+        report["freecad"] = {
+            "inputs": [{"name": o.Name, "label": o.Label, "role": role, "material": mid,
+                        "group": next((g for g, ids in groups if mid in ids), None)}
+                       for o, role, mid in described],
+            "groups": {g: ids for g, ids in groups},
+        }
+        obj.FemMesh = femmesh
+        obj.Report = json.dumps(report, indent=1, sort_keys=True)
+        obj.Status = "%d nodes, %d %s; groups: %s" % (
+            femmesh.NodeCount, femmesh.VolumeCount,
+            "tet10" if result.tets.shape[1] == 10 else "tet4",
+            ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
+                      for g in femmesh.Groups))
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    # FreeCAD >= 0.21 prefers dumps/loads; keep both so documents round-trip everywhere.
+    dumps = __getstate__
+    loads = __setstate__
+
+
+def error_text(error):
+    """User text of an exception: core errors carry their own message naming input and fix."""
+    try:
+        core = import_core()
+        if isinstance(error, core.Cancelled):
+            return "meshing was cancelled"
+    except ImportError:
+        pass
+    return str(error) or error.__class__.__name__
+
+
+def show_error(message):
+    from PySide import QtGui
+    import FreeCADGui
+
+    QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "OracleMesh", message)
+
+
+# makeMesh keyword -> property. Sizes accept numbers in model units (mm).
+OPTION_PROPERTIES = {
+    "cell_size": "CellSize",
+    "cell_radius_edge_ratio": "CellRadiusEdgeRatio",
+    "facet_size": "FacetSize",
+    "facet_distance": "FacetDistance",
+    "facet_angle": "FacetAngle",
+    "edge_size": "EdgeSize",
+    "element_order": "ElementOrder",
+    "sharp_angle": "SharpAngle",
+    "optimize": "Optimize",
+    "seed": "Seed",
+    "max_vertices": "MaxVertices",
+    "time_limit": "TimeLimit",
+}
+
+
+def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
+    """Make an OracleMesh mesh object (not recomputed; call doc.recompute()).
+
+    inputs: solids, highest priority first. cuts: regions removed from every input.
+    analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
+    job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
+    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no features),
+    optimize, seed, max_vertices, time_limit, material_sizes ({input object, Name or Label:
+    cell size or dict of criteria}), output ({"files": [...], "report": path}).
+    """
+    known = set(OPTION_PROPERTIES) | {"material_sizes", "output"}
+    unknown = sorted(set(job_options) - known)
+    if unknown:
+        raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
+                        % (", ".join(unknown), ", ".join(sorted(known))))
+
+    obj = doc.addObject("Fem::FemMeshObjectPython", name)
+    OracleMeshProxy(obj)
+    if FreeCAD.GuiUp:
+        from .view_provider import ViewProviderOracleMesh
+        ViewProviderOracleMesh(obj.ViewObject)
+
+    obj.Inputs = list(inputs)
+    obj.Cuts = list(cuts)
+    for key, prop in OPTION_PROPERTIES.items():
+        if key in job_options:
+            value = job_options[key]
+            if key == "sharp_angle" and value in (None, False):
+                value = 0.0
+            setattr(obj, prop, value)
+    sizes = {}
+    for key, value in (job_options.get("material_sizes") or {}).items():
+        key = key if isinstance(key, str) else key.Name
+        if isinstance(value, dict):
+            value = " ".join("%s=%r" % (k, float(v)) for k, v in value.items())
+        sizes[key] = str(value)
+    obj.InputSizes = sizes
+    output = job_options.get("output") or {}
+    obj.OutputFiles = [str(f) for f in output.get("files", [])]
+    obj.OutputReport = str(output.get("report", ""))
+    if analysis is not None:
+        analysis.addObject(obj)
+    return obj

@@ -1,0 +1,165 @@
+"""Helpers for the scripts that tests/freecad runs inside `freecadcmd`.
+
+A script does:
+    import os, sys; sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    import fc_harness
+    def check(params): ...; return {"key": value, ...}
+    fc_harness.main(check)
+
+main() puts the repo's workbench and the core under test first on sys.path, reads the
+parameters the pytest side wrote (JSON), runs the check, and writes its result (or the
+traceback) as JSON. freecadcmd exits 0 even when a script raises, so the JSON file is the
+only reliable channel; the exit code is set too (0 ok, 1 failed).
+"""
+import json
+import os
+import sys
+import traceback
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+
+
+def setup_paths():
+    """Repo workbench first; the core under test: the build's module or the Gmsh stand-in."""
+    core = os.environ.get("ORACLEMESH_TEST_CORE", "oraclemesh")
+    if core == "gmsh":
+        sys.path.insert(0, os.path.join(HERE, "gmsh_core"))
+    else:
+        build = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(REPO, "build"))
+        sys.path.insert(0, os.path.join(build, "python"))
+    sys.path.insert(0, os.path.join(REPO, "Mod", "OracleMesh"))
+    return core
+
+
+def main(check):
+    core = setup_paths()
+    result_path = os.environ["OMFC_RESULT"]
+    try:
+        with open(os.environ["OMFC_PARAMS"]) as f:
+            params = json.load(f)
+        out = check(params) or {}
+        out.setdefault("ok", True)
+    except BaseException:
+        out = {"ok": False, "traceback": traceback.format_exc()}
+    out["core"] = core
+    with open(result_path, "w") as f:
+        json.dump(out, f, indent=1, default=float)
+    sys.stdout.flush()
+    os._exit(0 if out["ok"] else 1)  # skip FreeCAD's teardown: nothing left to save
+
+
+# ---------------------------------------------------------------- FEM set-up helpers
+
+def box(doc, name, x0, y0, z0, lx, ly, lz):
+    import FreeCAD
+    obj = doc.addObject("Part::Box", name)
+    obj.Length, obj.Width, obj.Height = lx, ly, lz
+    obj.Placement.Base = FreeCAD.Vector(x0, y0, z0)
+    return obj
+
+
+def face_where(obj, axis, value, tol=1e-6):
+    """Name ('FaceN') of the planar face of obj lying in the plane <axis> = value."""
+    k = "xyz".index(axis)
+    for i, face in enumerate(obj.Shape.Faces, start=1):
+        bb = face.BoundBox
+        lo, hi = (bb.XMin, bb.YMin, bb.ZMin)[k], (bb.XMax, bb.YMax, bb.ZMax)[k]
+        if abs(lo - value) < tol and abs(hi - value) < tol:
+            return "Face%d" % i
+    raise ValueError("%s has no face at %s = %g" % (obj.Label, axis, value))
+
+
+def edge_along(obj, axis):
+    """Name of a straight edge of obj parallel to the axis."""
+    k = "xyz".index(axis)
+    for i, edge in enumerate(obj.Shape.Edges, start=1):
+        d = edge.Vertexes[-1].Point - edge.Vertexes[0].Point
+        if abs(abs(d[k]) - d.Length) < 1e-9 * max(d.Length, 1):
+            return "Edge%d" % i
+    raise ValueError("%s has no edge along %s" % (obj.Label, axis))
+
+
+def analysis_with_solver(doc):
+    import ObjectsFem
+    analysis = ObjectsFem.makeAnalysis(doc, "Analysis")
+    solver = ObjectsFem.makeSolverCalculixCcxTools(doc, "CalculiXccxTools")
+    solver.AnalysisType = "static"
+    solver.GeometricalNonlinearity = "linear"
+    solver.SplitInputWriter = False
+    solver.WorkingDir = ""
+    analysis.addObject(solver)
+    return analysis, solver
+
+
+def material(doc, analysis, name, youngs_mpa, poisson, refs):
+    import ObjectsFem
+    mat_obj = ObjectsFem.makeMaterialSolid(doc, name)
+    mat = mat_obj.Material
+    mat["Name"] = name
+    mat["YoungsModulus"] = "%r MPa" % float(youngs_mpa)
+    mat["PoissonRatio"] = "%r" % float(poisson)
+    mat_obj.Material = mat
+    mat_obj.References = [(o, "Solid1") for o in refs]
+    analysis.addObject(mat_obj)
+    return mat_obj
+
+
+def run_ccx(analysis, solver, workdir):
+    """Write the inp, run ccx, load results; returns (result object, inp path)."""
+    from femtools import ccxtools
+    os.makedirs(workdir, exist_ok=True)
+    fea = ccxtools.FemToolsCcx(analysis, solver)
+    fea.update_objects()
+    fea.setup_working_dir(workdir)
+    message = fea.check_prerequisites()
+    if message:
+        raise RuntimeError("ccx prerequisites: " + message)
+    fea.write_inp_file()
+    if not fea.inp_file_name:
+        raise RuntimeError("writing the CalculiX input failed")
+    code = fea.ccx_run()
+    if code != 0:
+        raise RuntimeError("ccx failed (%r):\n%s" % (code, (fea.ccx_stdout or "")[-3000:]))
+    fea.load_results()
+    results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
+    if not results:
+        raise RuntimeError("no CalculiX result loaded")
+    return results[0], fea.inp_file_name
+
+
+def displacements(result):
+    """{node id: (ux, uy, uz)} of a FEM result object."""
+    return {n: (v.x, v.y, v.z) for n, v in zip(result.NodeNumbers, result.DisplacementVectors)}
+
+
+def mesh_facts(mesh_obj):
+    """Counts, groups and FreeCAD-orientation facts of a FEM mesh object."""
+    import numpy as np
+    fm = mesh_obj.FemMesh
+    nodes = fm.Nodes
+    vols = list(fm.Volumes)
+    signs = []
+    mid_err = 0.0
+    for e in vols:
+        ids = fm.getElementNodes(e)
+        p = np.array([tuple(nodes[i]) for i in ids])
+        signs.append(np.dot(np.cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]))
+        if len(ids) == 10:
+            # FreeCAD mid node order 12, 23, 31, 14, 24, 34: the distance to the edge
+            # midpoint is 0 inside and small (curved faces) on the boundary.
+            for k, (a, b) in enumerate(((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))):
+                length = np.linalg.norm(p[a] - p[b])
+                mid_err = max(mid_err, np.linalg.norm(p[4 + k] - 0.5 * (p[a] + p[b])) / length)
+    groups = {fm.getGroupName(g): sorted(fm.getGroupElements(g)) for g in fm.Groups
+              if fm.getGroupElementType(g) == "Volume"}
+    return {
+        "nodes": fm.NodeCount,
+        "volumes": fm.VolumeCount,
+        "nodes_per_volume": len(fm.getElementNodes(vols[0])) if vols else 0,
+        "max_signed_volume6": float(max(signs)) if signs else 0.0,
+        "min_abs_signed_volume6": float(min(abs(s) for s in signs)) if signs else 0.0,
+        "max_mid_node_offset": float(mid_err),
+        "group_sizes": {k: len(v) for k, v in groups.items()},
+        "groups_cover_all_once": sorted(sum(groups.values(), [])) == sorted(vols),
+    }

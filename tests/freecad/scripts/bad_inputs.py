@@ -1,0 +1,61 @@
+"""Bad inputs through FreeCAD: each must fail with a clear message, leave the previous mesh
+and the document as they were, and not crash FreeCAD; a fixed input must mesh again."""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import fc_harness as h  # noqa: E402
+
+
+def check(params):
+    import FreeCAD
+    import Part
+    from oraclemesh_fc import makeMesh
+
+    doc = FreeCAD.newDocument("BadInputs")
+    good = h.box(doc, "GoodBox", 0, 0, 0, 20, 10, 10)
+    plane = doc.addObject("Part::Plane", "FaceOnly")
+    plane.Length = plane.Width = 10
+    shell = doc.addObject("Part::Feature", "OpenShell")
+    shell.Shape = Part.Shell(Part.makeBox(10, 10, 10).Faces[:5])  # one face missing
+    group = doc.addObject("App::DocumentObjectGroup", "JustAGroup")
+    doc.recompute()
+    mesh = makeMesh(doc, [good], cell_size=3.0, element_order=1)
+    doc.recompute()
+    if not mesh.isValid():
+        raise RuntimeError("the good mesh failed: " + mesh.Status)
+    baseline = (mesh.FemMesh.VolumeCount, mesh.FemMesh.NodeCount)
+    names = sorted(o.Name for o in doc.Objects)
+
+    cases = {
+        "no_inputs": {"Inputs": []},
+        "face_only": {"Inputs": [plane]},
+        "open_shell": {"Inputs": [shell]},
+        "only_cuts": {"Inputs": [good], "Cuts": [good]},
+        "negative_size": {"InputSizes": {"GoodBox": "-1"}},
+        "nan_size": {"InputSizes": {"GoodBox": "cell_size=nan"}},
+        "too_many_vertices": {"CellSize": 0.05, "MaxVertices": 1000},
+        "not_a_shape": {"Inputs": [good, group]},
+        "unknown_size_key": {"InputSizes": {"Nope": "1"}},
+    }
+    out = {}
+    for case, props in cases.items():
+        saved = {k: getattr(mesh, k) for k in props}
+        for k, v in props.items():
+            setattr(mesh, k, v)
+        doc.recompute()
+        out[case] = {
+            "valid": mesh.isValid(),
+            "state": list(mesh.State),
+            "status": mesh.Status,
+            "mesh_kept": (mesh.FemMesh.VolumeCount, mesh.FemMesh.NodeCount) == baseline,
+            "objects_kept": sorted(o.Name for o in doc.Objects) == names,
+        }
+        for k, v in saved.items():
+            setattr(mesh, k, v)
+    doc.recompute()
+    out["recovered"] = mesh.isValid() and mesh.FemMesh.VolumeCount > 0
+    return {"cases": out}
+
+
+h.main(check)

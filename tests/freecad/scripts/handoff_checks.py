@@ -1,0 +1,156 @@
+"""FEM hand-off checks on the demo-like assembly: a steel pin through an aluminium plate (no
+hole: the pin wins by priority) with a cut box removing one corner of the plate.
+Returns facts about groups, orientation, constraint node search, boundary mid nodes on the
+curved CAD face, volumes per material, and what survives save + reopen."""
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import fc_harness as h  # noqa: E402
+
+R, PIN_H = 5.0, 40.0
+PLATE = (100.0, 60.0, 10.0)
+CUT = (80.0, 40.0, -1.0, 30.0, 30.0, 12.0)  # removes x 80..100, y 40..60 of the plate
+
+
+def build(doc):
+    import FreeCAD
+    plate = h.box(doc, "Plate", 0, 0, 0, *PLATE)
+    pin = doc.addObject("Part::Cylinder", "Pin")
+    pin.Radius, pin.Height = R, PIN_H
+    pin.Placement.Base = FreeCAD.Vector(50, 30, -15)
+    cut = h.box(doc, "CutBox", *CUT)
+    doc.recompute()
+    return pin, plate, cut
+
+
+def tet10_volumes(points, tets):
+    """Exact volume of each quadratic tet (FreeCAD node order), 3x3x3 Gauss on the Duffy cube."""
+    import numpy as np
+    g, w = np.array([0.1127016653792583, 0.5, 0.8872983346207417]), np.array([5, 8, 5]) / 18.0
+    edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+    dL = np.array([[-1, -1, -1], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    x = points[tets]
+    vol = np.zeros(len(tets))
+    for a in range(3):
+        for b in range(3):
+            for c in range(3):
+                u, s, r = g[a], g[b], g[c]
+                xi, eta, zeta = u, s * (1 - u), r * (1 - u) * (1 - s)
+                L = np.array([1 - xi - eta - zeta, xi, eta, zeta])
+                grads = [(4 * L[i] - 1) * dL[i] for i in range(4)]
+                grads += [4 * (L[i] * dL[j] + L[j] * dL[i]) for i, j in edges]
+                J = np.einsum("mkr,kc->mrc", x, np.array(grads))
+                vol += w[a] * w[b] * w[c] * (1 - u) ** 2 * (1 - s) * np.linalg.det(J)
+    return np.abs(vol)  # FreeCAD order is negatively oriented
+
+
+def arrays(fm):
+    import numpy as np
+    nodes = fm.Nodes  # a new dict on every access: fetch once
+    ids = sorted(nodes)
+    index = {n: i for i, n in enumerate(ids)}
+    points = np.array([tuple(nodes[n]) for n in ids])
+    vols = sorted(fm.Volumes)
+    tets = np.array([[index[n] for n in fm.getElementNodes(e)] for e in vols])
+    return points, tets, vols, index
+
+
+def check(params):
+    import FreeCAD
+    import ObjectsFem
+    import numpy as np
+    from oraclemesh_fc import makeMesh
+
+    out = {}
+    doc = FreeCAD.newDocument("Handoff")
+    pin, plate, cut = build(doc)
+    analysis, solver = h.analysis_with_solver(doc)
+    m_pin = h.material(doc, analysis, "MaterialPin", 210000, 0.3, [pin])
+    m_plate = h.material(doc, analysis, "MaterialPlate", 70000, 0.33, [plate])
+    fixed = ObjectsFem.makeConstraintFixed(doc, "ConstraintFixed")
+    fixed_face = h.face_where(plate, "x", 0)
+    fixed.References = [(plate, fixed_face)]
+    analysis.addObject(fixed)
+    mesh = makeMesh(doc, [pin, plate], analysis=analysis, cuts=[cut], **params["mesh"])
+    doc.recompute()
+    if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
+        raise RuntimeError("meshing failed: " + mesh.Status)
+    fm = mesh.FemMesh
+    out["mesh"] = h.mesh_facts(mesh)
+    out["groups_expected"] = {m_pin.Name + "_Volumes": "pin", m_plate.Name + "_Volumes": "plate"}
+    out["in_analysis"] = mesh in analysis.Group
+    report = json.loads(mesh.Report)
+    out["second_order_straight_fallbacks"] = report.get("second_order_straight_fallbacks")
+
+    points, tets, vols, index = arrays(fm)
+    group_elems = {fm.getGroupName(g): set(fm.getGroupElements(g)) for g in fm.Groups}
+    vol = tet10_volumes(points, tets) if tets.shape[1] == 10 else None
+    if vol is not None:
+        out["volume"] = {name: float(sum(v for e, v in zip(vols, vol) if e in elems))
+                         for name, elems in group_elems.items()}
+    out["volume_expected"] = {
+        "pin": math.pi * R * R * PIN_H,
+        "plate": PLATE[0] * PLATE[1] * PLATE[2] - 20 * 20 * PLATE[2] - math.pi * R * R * PLATE[2],
+    }
+    centroids = points[tets[:, :4]].mean(axis=1)
+    in_cut = ((centroids[:, 0] > 80) & (centroids[:, 1] > 40)).sum()
+    out["tets_in_cut_region"] = int(in_cut)
+
+    # FreeCAD finds the constraint nodes geometrically: it must find every node on the face.
+    found = set(fm.getNodesByFace(plate.Shape.getElement(fixed_face)))
+    nodes = fm.Nodes
+    on_face = {n for n, v in nodes.items() if abs(v.x) < 1e-9}
+    out["fixed_face_nodes_found"] = len(found)
+    out["fixed_face_nodes_on_plane"] = len(on_face)
+    out["fixed_face_found_all"] = found == on_face
+
+    # Boundary mid nodes on the pin's free cylinder (outside the plate) lie on the CAD face.
+    faces = {}
+    local = ((0, 1, 2, 4, 5, 6), (0, 1, 3, 4, 8, 7), (1, 2, 3, 5, 9, 8), (0, 2, 3, 6, 9, 7))
+    if tets.shape[1] == 10:
+        for t in tets:
+            for f in local:
+                key = tuple(sorted(t[list(f[:3])]))
+                faces[key] = None if key in faces else [t[i] for i in f]
+        boundary = np.array([v for v in faces.values() if v is not None])
+        p = points[boundary]
+        radius = np.hypot(p[..., 0] - 50, p[..., 1] - 30)
+        z = p[..., 2]
+        outside = (z.max(axis=1) < -1e-6) | (z.min(axis=1) > 10 + 1e-6)
+        # Triangles of the end caps (z = -15 or 25) touch the rim too: leave them out.
+        on_cap = (np.abs(z + 15).max(axis=1) < 1e-9) | (np.abs(z - 25).max(axis=1) < 1e-9)
+        lateral = outside & ~on_cap & (np.abs(radius - R).max(axis=1) < 0.5)
+        out["pin_lateral_boundary_faces"] = int(lateral.sum())
+        out["pin_lateral_max_radius_error"] = float(np.abs(radius[lateral] - R).max())
+
+    # Save, reopen: the proxy, properties and groups must survive.
+    path = os.path.join(params["workdir"], "handoff.FCStd")
+    doc.saveAs(path)
+    name = mesh.Name
+    FreeCAD.closeDocument(doc.Name)
+    doc2 = FreeCAD.openDocument(path)
+    m2 = doc2.getObject(name)
+    fm2 = m2.FemMesh
+    out["reopened"] = {
+        "proxy": type(m2.Proxy).__name__,
+        "inputs": [o.Name for o in m2.Inputs],
+        "cuts": [o.Name for o in m2.Cuts],
+        "volumes": fm2.VolumeCount,
+        "groups": sorted(fm2.getGroupName(g) for g in fm2.Groups),
+        "touched": "Touched" in m2.State,
+    }
+
+    # Without FEM materials the groups are named after the input labels.
+    doc3 = FreeCAD.newDocument("Labels")
+    pin3, plate3, cut3 = build(doc3)
+    mesh3 = makeMesh(doc3, [pin3, plate3], cuts=[cut3], **params["mesh"])
+    doc3.recompute()
+    fm3 = mesh3.FemMesh
+    out["label_groups"] = sorted(fm3.getGroupName(g) for g in fm3.Groups)
+    return out
+
+
+h.main(check)

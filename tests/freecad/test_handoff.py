@@ -1,0 +1,37 @@
+"""FEM hand-off: groups, orientation, constraint node search, curved faces, save/reopen."""
+
+
+def test_fem_handoff_demo_assembly(run_freecad):
+    r = run_freecad("handoff_checks.py", {"mesh": {"cell_size": 3.0, "element_order": 2}})
+    mesh = r["mesh"]
+    assert r["in_analysis"]
+    assert mesh["nodes_per_volume"] == 10
+    assert mesh["max_signed_volume6"] < 0, "FreeCAD wants (n2-n1)x(n3-n1).(n4-n1) < 0"
+    assert mesh["min_abs_signed_volume6"] > 0
+    # One group per FEM material (named <FemMaterial.Name>_Volumes), covering all volumes.
+    assert sorted(mesh["group_sizes"]) == sorted(r["groups_expected"])
+    assert all(n > 0 for n in mesh["group_sizes"].values())
+    assert mesh["groups_cover_all_once"]
+    # The cut removed the plate corner.
+    assert r["tets_in_cut_region"] == 0
+    # FreeCAD's geometric node search finds exactly the nodes on the fixed face.
+    assert r["fixed_face_nodes_found"] > 20
+    assert r["fixed_face_found_all"], (r["fixed_face_nodes_found"], r["fixed_face_nodes_on_plane"])
+    # Boundary nodes, mid nodes included, lie on the pin's cylinder.
+    assert r["pin_lateral_boundary_faces"] > 20
+    assert r["pin_lateral_max_radius_error"] < 1e-6, (
+        "boundary mid nodes off the cylinder by up to %.3g mm (core report: %s straight-sided "
+        "fallbacks)" % (r["pin_lateral_max_radius_error"], r["second_order_straight_fallbacks"]))
+    # Volume per material (tet10, curved): pin and plate minus pin minus the cut corner.
+    for group, part in r["groups_expected"].items():
+        expected = r["volume_expected"][part]
+        assert abs(r["volume"][group] - expected) < 0.005 * expected, (group, r["volume"][group], expected)
+    # Save + reopen keeps the object, its links and the groups; no re-mesh is pending.
+    reopened = r["reopened"]
+    assert reopened["proxy"] == "OracleMeshProxy"
+    assert reopened["inputs"] == ["Pin", "Plate"] and reopened["cuts"] == ["CutBox"]
+    assert reopened["volumes"] == mesh["volumes"]
+    assert reopened["groups"] == sorted(r["groups_expected"])
+    assert not reopened["touched"]
+    # Without FEM materials the groups carry the input labels.
+    assert r["label_groups"] == ["Pin_Volumes", "Plate_Volumes"]
