@@ -2,8 +2,7 @@
 reads the JSON the script writes (see fc_harness.py).
 
 The core under test is the build's module (ORACLEMESH_BUILD_DIR/python/oraclemesh, default
-build/) or, with ORACLEMESH_TEST_CORE=gmsh, the Gmsh stand-in in gmsh_core/ that proves the
-FreeCAD hand-off without the C++ core. Script outputs (FCStd, ccx files) go to
+build/). Script outputs (FCStd, ccx files) go to
 ORACLEMESH_TEST_OUTPUT/freecad/<test> when that is set, else to pytest's tmp_path.
 """
 import json
@@ -13,7 +12,7 @@ import subprocess
 
 import pytest
 
-from fc_testenv import BUILD, CORE, HERE, core_available
+from fc_testenv import BUILD, HERE, core_available
 
 
 @pytest.fixture
@@ -34,7 +33,7 @@ def run_freecad(workdir):
         pytest.fail("freecadcmd is not installed (cmake/install-deps.sh installs FreeCAD)")
     if not core_available():
         pytest.fail("the core under test is missing: build the project (cmake --build build) "
-                    "so %s/python/oraclemesh/_core*.so exists, or set ORACLEMESH_TEST_CORE=gmsh"
+                    "so %s/python/oraclemesh/_core*.so exists"
                     % BUILD)
 
     def run(script, params=None, timeout=600, env=None):
@@ -48,7 +47,7 @@ def run_freecad(workdir):
         if os.path.exists(result_path):
             os.remove(result_path)
         full_env = dict(os.environ, OMFC_PARAMS=params_path, OMFC_RESULT=result_path,
-                        ORACLEMESH_TEST_CORE=CORE, ORACLEMESH_BUILD_DIR=BUILD)
+                        ORACLEMESH_BUILD_DIR=BUILD)
         full_env.update(env or {})
         log = os.path.join(workdir, name + ".log")
         try:

@@ -21,19 +21,14 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 
 
 def setup_paths():
-    """Repo workbench first; the core under test: the build's module or the Gmsh stand-in."""
-    core = os.environ.get("ORACLEMESH_TEST_CORE", "oraclemesh")
-    if core == "gmsh":
-        sys.path.insert(0, os.path.join(HERE, "gmsh_core"))
-    else:
-        build = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(REPO, "build"))
-        sys.path.insert(0, os.path.join(build, "python"))
+    """Repo workbench first, then the build's core module."""
+    build = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(REPO, "build"))
+    sys.path.insert(0, os.path.join(build, "python"))
     sys.path.insert(0, os.path.join(REPO, "Mod", "OracleMesh"))
-    return core
 
 
 def main(check):
-    core = setup_paths()
+    setup_paths()
     result_path = os.environ["OMFC_RESULT"]
     try:
         with open(os.environ["OMFC_PARAMS"]) as f:
@@ -42,7 +37,6 @@ def main(check):
         out.setdefault("ok", True)
     except BaseException:
         out = {"ok": False, "traceback": traceback.format_exc()}
-    out["core"] = core
     with open(result_path, "w") as f:
         json.dump(out, f, indent=1, default=float)
     sys.stdout.flush()

@@ -1,6 +1,5 @@
 """Bad inputs through FreeCAD give a clear error (checked text) and change nothing."""
 
-from fc_testenv import needs_real_core
 
 # case -> words the message must contain (lower case): what is wrong and which input.
 EXPECTED = {
@@ -18,7 +17,6 @@ EXPECTED = {
 
 
 
-@needs_real_core
 def test_bad_inputs_fail_cleanly(run_freecad):
     r = run_freecad("bad_inputs.py", timeout=900)["cases"]
     problems = []

@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from fc_testenv import BUILD, CORE, REPO, core_available
+from fc_testenv import BUILD, REPO, core_available
 
 
 @pytest.mark.skipif(shutil.which("xvfb-run") is None or shutil.which("freecad") is None,
@@ -17,7 +17,7 @@ def test_gui_command_meshes_selection(tmp_path):
         pytest.fail("the core under test is missing: build the project first")
     home = tmp_path / "home"
     home.mkdir()
-    env = dict(os.environ, HOME=str(home), ORACLEMESH_TEST_CORE=CORE,
+    env = dict(os.environ, HOME=str(home),
                OMFC_RESULT=str(tmp_path / "gui.json"),
                # FreeCAD's start page uses QtWebEngine, which refuses to run as root sandboxed.
                QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")

@@ -16,12 +16,10 @@ def step(text):
 
 def check():
     # The workbench comes from FreeCAD's user Mod folder (cmake/install-workbench.sh ran in
-    # this HOME), exactly as a user gets it; only the Gmsh stand-in core needs a path.
+    # this HOME), exactly as a user gets it.
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     sys.path.insert(0, here)
     import fc_harness
-    if os.environ.get("ORACLEMESH_TEST_CORE") == "gmsh":
-        sys.path.insert(0, os.path.join(here, "gmsh_core"))
 
     import FreeCAD
     import FreeCADGui
