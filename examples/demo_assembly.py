@@ -32,7 +32,8 @@ def import_workbench():
         for name in [m for m in sys.modules if m.startswith("oraclemesh")]:
             del sys.modules[name]
     from oraclemesh_fc import makeMesh
-    return makeMesh
+    from oraclemesh_fc.calculix import run_calculix
+    return makeMesh, run_calculix
 
 
 def face_at(obj, axis, value):
@@ -99,32 +100,10 @@ def build(doc):
     return analysis, solver, pin, plate, corner
 
 
-def solve(analysis, solver, workdir):
-    from femtools import ccxtools
-    os.makedirs(workdir, exist_ok=True)
-    fea = ccxtools.FemToolsCcx(analysis, solver)
-    fea.update_objects()
-    fea.setup_working_dir(workdir)
-    message = fea.check_prerequisites()
-    if message:
-        raise RuntimeError("CalculiX prerequisites are not met: " + message)
-    fea.write_inp_file()
-    if not fea.inp_file_name:
-        raise RuntimeError("FreeCAD could not write the CalculiX input file")
-    code = fea.ccx_run()
-    if code != 0:
-        raise RuntimeError("CalculiX failed (exit %r); see %s" % (code, workdir))
-    fea.load_results()
-    results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
-    if not results:
-        raise RuntimeError("no CalculiX results were loaded from " + workdir)
-    return results[0], fea.inp_file_name
-
-
 def main():
     out = os.path.abspath(os.environ.get("OUT_DIR") or "out")
     os.makedirs(out, exist_ok=True)
-    makeMesh = import_workbench()
+    makeMesh, run_calculix = import_workbench()
     doc = FreeCAD.newDocument("OracleMeshDemo")
     analysis, solver, pin, plate, corner = build(doc)
 
@@ -140,7 +119,7 @@ def main():
         raise RuntimeError(mesh.Status or "meshing failed")
 
     t0 = time.time()
-    result, ccx_inp = solve(analysis, solver, os.path.join(out, "ccx"))
+    result, ccx_inp = run_calculix(analysis, solver, os.path.join(out, "ccx"))
     ccx_seconds = time.time() - t0
     max_disp = max(result.DisplacementLengths)
     doc.saveAs(os.path.join(out, "demo.FCStd"))

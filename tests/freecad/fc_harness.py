@@ -99,29 +99,6 @@ def material(doc, analysis, name, youngs_mpa, poisson, refs):
     return mat_obj
 
 
-def run_ccx(analysis, solver, workdir):
-    """Write the inp, run ccx, load results; returns (result object, inp path)."""
-    from femtools import ccxtools
-    os.makedirs(workdir, exist_ok=True)
-    fea = ccxtools.FemToolsCcx(analysis, solver)
-    fea.update_objects()
-    fea.setup_working_dir(workdir)
-    message = fea.check_prerequisites()
-    if message:
-        raise RuntimeError("ccx prerequisites: " + message)
-    fea.write_inp_file()
-    if not fea.inp_file_name:
-        raise RuntimeError("writing the CalculiX input failed")
-    code = fea.ccx_run()
-    if code != 0:
-        raise RuntimeError("ccx failed (%r):\n%s" % (code, (fea.ccx_stdout or "")[-3000:]))
-    fea.load_results()
-    results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
-    if not results:
-        raise RuntimeError("no CalculiX result loaded")
-    return results[0], fea.inp_file_name
-
-
 def displacements(result):
     """{node id: (ux, uy, uz)} of a FEM result object."""
     return {n: (v.x, v.y, v.z) for n, v in zip(result.NodeNumbers, result.DisplacementVectors)}

@@ -1,4 +1,5 @@
 #include "features/BrepSharpEdges.h"
+#include "features/CurveSampling.h"
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Curve2d.hxx>
@@ -58,41 +59,6 @@ bool facesMeetSharply(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoD
     if (na.Dot(nb) < cosThreshold) return true;
   }
   return false;
-}
-
-// Curve parameters of the polyline points: arc-length-uniform, segments no longer than
-// maxSegmentLength, and refined until every chord is within `sagittaTolerance` of the curve
-// at its parametric middle.
-std::vector<double> polylineParameters(const BRepAdaptor_Curve& curve, double maxSegmentLength, double sagittaTolerance,
-                                       int minSegments) {
-  const double first = curve.FirstParameter(), last = curve.LastParameter();
-  const double length = GCPnts_AbscissaPoint::Length(curve, first, last);
-  int segments = std::max(minSegments, static_cast<int>(std::ceil(length / maxSegmentLength)));
-  std::vector<double> params;
-  for (int attempt = 0; attempt < 12; ++attempt) {
-    params.clear();
-    GCPnts_UniformAbscissa uniform(curve, segments + 1, first, last);
-    if (uniform.IsDone() && uniform.NbPoints() == segments + 1) {
-      for (int i = 1; i <= uniform.NbPoints(); ++i) params.push_back(uniform.Parameter(i));
-    } else {
-      for (int i = 0; i <= segments; ++i) params.push_back(first + (last - first) * i / segments);
-    }
-    params.front() = first;
-    params.back() = last;
-    double worstSagitta = 0;
-    for (size_t i = 0; i + 1 < params.size(); ++i) {
-      const gp_Pnt a = curve.Value(params[i]), b = curve.Value(params[i + 1]);
-      const gp_Pnt mid = curve.Value(0.5 * (params[i] + params[i + 1]));
-      const gp_Vec chord(a, b);
-      const double chordLength = chord.Magnitude();
-      const double sagitta =
-          chordLength > 0 ? gp_Vec(a, mid).Crossed(chord).Magnitude() / chordLength : a.Distance(mid);
-      worstSagitta = std::max(worstSagitta, sagitta);
-    }
-    if (worstSagitta <= sagittaTolerance) break;
-    segments *= 2;
-  }
-  return params;
 }
 
 }  // namespace
@@ -157,7 +123,8 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
       if (firstVertex.IsNull() || lastVertex.IsNull()) continue;  // infinite edge: not in a solid
       const bool closed = firstVertex.IsSame(lastVertex);
       BRepAdaptor_Curve curve(forward);
-      const std::vector<double> params = polylineParameters(curve, maxSegmentLength, sagittaTolerance, closed ? 3 : 1);
+      const std::vector<double> params = polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(),
+                                                            maxSegmentLength, sagittaTolerance, closed ? 3 : 1);
 
       FeaturePolyline polyline;
       polyline.points.push_back(corner[vertexMap.FindIndex(firstVertex) - 1]);

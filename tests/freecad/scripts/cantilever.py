@@ -11,6 +11,7 @@ def check(params):
     import FreeCAD
     import ObjectsFem
     from oraclemesh_fc import makeMesh
+    from oraclemesh_fc.calculix import run_calculix
 
     doc = FreeCAD.newDocument("Cantilever")
     beam = h.box(doc, "Beam", 0, 0, 0, 100, 10, 10)
@@ -33,7 +34,7 @@ def check(params):
     if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
         raise RuntimeError("meshing failed: " + mesh.Status)
     facts = h.mesh_facts(mesh)
-    result, inp = h.run_ccx(analysis, solver, params["workdir"])
+    result, inp = run_calculix(analysis, solver, params["workdir"])
     disp = h.displacements(result)
     tip_nodes = mesh.FemMesh.getNodesByFace(beam.Shape.getElement(tip_face))
     uz = [disp[n][2] for n in tip_nodes]

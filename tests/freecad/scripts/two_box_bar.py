@@ -24,6 +24,7 @@ def check(params):
     import FreeCAD
     import ObjectsFem
     from oraclemesh_fc import makeMesh
+    from oraclemesh_fc.calculix import run_calculix
 
     doc = FreeCAD.newDocument("TwoBoxBar")
     steel = h.box(doc, "SteelBox", 0, 0, 0, 110, 10, 10)
@@ -49,7 +50,7 @@ def check(params):
     if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
         raise RuntimeError("meshing failed: " + mesh.Status)
     facts = h.mesh_facts(mesh)
-    result, inp = h.run_ccx(analysis, solver, params["workdir"])
+    result, inp = run_calculix(analysis, solver, params["workdir"])
     disp = h.displacements(result)
     end_nodes = mesh.FemMesh.getNodesByFace(alu.Shape.getElement(end_face))
     ux = [disp[n][0] for n in end_nodes]
