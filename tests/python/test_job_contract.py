@@ -81,7 +81,7 @@ def test_progress_is_reported_and_cancel_stops():
         oraclemesh.run(sphere_job(order=1), progress=lambda phase, f: phase != "refine")
 
 
-@pytest.mark.parametrize("job, expected", [
+BAD_JOBS = [
     ({"inputs": []}, "no inputs"),
     ({"inputs": [{"name": "tool", "sphere": {"center": [0, 0, 0], "radius": 1}, "role": "cut"}]},
      "role 'cut'"),
@@ -92,7 +92,10 @@ def test_progress_is_reported_and_cancel_stops():
     (sphere_job(criteria={"default": {"cell_size": float("nan")}}), "criteria.default.cell_size"),
     (sphere_job(criteria={"default": {"cell_size": -1}}), "positive"),
     (sphere_job(criteria={"default": {"cell_size": 1e-4}}), "max_vertices"),
-])
+]
+
+
+@pytest.mark.parametrize("job, expected", BAD_JOBS)
 def test_bad_input_names_input_and_fix(job, expected):
     with pytest.raises(oraclemesh.InputError) as err:
         oraclemesh.run(job)
@@ -120,11 +123,20 @@ def test_cli_runs_job_file_and_writes_outputs(tmp_path):
     assert (tmp_path / "ball.vtu").stat().st_size > 0 and (tmp_path / "ball.inp").stat().st_size > 0
 
 
-def test_cli_bad_input_exits_nonzero_with_message(tmp_path):
+@pytest.mark.parametrize("job, expected", BAD_JOBS)
+def test_cli_bad_input_exits_nonzero_with_message(tmp_path, job, expected):
     path = tmp_path / "job.json"
-    path.write_text(json.dumps({"inputs": [{"name": "flat", "file": os.path.join(DATA, "face_only.brep")}]}))
+    # JSON has no NaN: the CLI sees the literal and reports where the job stops parsing.
+    text = json.dumps(job)
+    path.write_text(text)
     run = subprocess.run([CLI, str(path)], capture_output=True, text=True, timeout=120)
-    assert run.returncode == 2
-    assert "flat" in run.stderr and "no solid" in run.stderr
+    assert run.returncode == 2, run.stderr
+    if "NaN" in text:
+        assert "not valid JSON" in run.stderr and "cell_size" in run.stderr
+    else:
+        assert expected in run.stderr
+
+
+def test_cli_missing_job_file(tmp_path):
     run = subprocess.run([CLI, str(tmp_path / "missing.json")], capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and "missing.json" in run.stderr
