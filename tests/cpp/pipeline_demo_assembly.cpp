@@ -165,3 +165,20 @@ TEST(DemoAssembly, SameJobSameMesh) {
 
 }  // namespace
 }  // namespace oraclemesh
+
+namespace oraclemesh {
+namespace {
+
+TEST(DemoAssembly, JunctionCurvesCanBeSwitchedOff) {
+  nlohmann::json job = demoJob(1);
+  job["optimize"] = false;
+  const JobResult with = runJob(JobSpec::fromJson(job, ""), RunControl());
+  job["features"] = {{"junctions", false}};
+  const JobResult without = runJob(JobSpec::fromJson(job, ""), RunControl());
+  // Pin/plate circles (2) and the cut's lines across the plate (6) are the junctions.
+  EXPECT_EQ(with.report["features"]["polylines"].get<int>() - without.report["features"]["polylines"].get<int>(), 8);
+  EXPECT_FALSE(without.report["features"]["junctions"].get<bool>());
+}
+
+}  // namespace
+}  // namespace oraclemesh

@@ -162,6 +162,10 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
         spec.sharp_angle_deg = positiveNumber(f["sharp_angle_deg"], "features.sharp_angle_deg");
         if (spec.sharp_angle_deg >= 180) throw InputError("features.sharp_angle_deg must be below 180 degrees");
       }
+      if (f.contains("junctions")) {
+        if (!f["junctions"].is_boolean()) throw InputError("features.junctions must be true or false");
+        spec.junctions = f["junctions"].get<bool>();
+      }
       if (f.contains("polylines") && !f["polylines"].empty())
         throw InputError("features.polylines (user polylines) are not supported yet: remove them from the job");
     } else {

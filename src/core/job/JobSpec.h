@@ -36,6 +36,7 @@ struct JobSpec {
   std::map<int, CriteriaSpec> material_criteria;
   bool features = true;
   double sharp_angle_deg = 30;
+  bool junctions = true;  // curves where two inputs' boundaries cross become features
   std::string engine = "cgal";
   int element_order = 2;
   bool perturb = true;

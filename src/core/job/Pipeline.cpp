@@ -116,7 +116,7 @@ struct CurveOrigin {
 };
 
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
-                           std::unordered_map<int, CurveOrigin>& origins) {
+                           const RunControl& control, std::unordered_map<int, CurveOrigin>& origins) {
   FeatureGraph all;
   if (!job.features) return all;
   double edgeSize = table.defaults.edge_size;
@@ -133,8 +133,11 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   }
   FeatureGraph clipped = clipToCompositeBoundary(all, oracle);
   // Where two inputs' boundaries cross (pin leaving the plate, cut faces across the plate).
-  auto junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg));
-  clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
+  std::shared_ptr<const JunctionCurves> junctions;
+  if (job.junctions) {
+    junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg, &control));
+    clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
+  }
   clipped = removeCoincidentFeatures(clipped, oracle);
   for (const FeaturePolyline& pl : clipped.polylines)
     origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr};
@@ -239,7 +242,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("features", 0);
   std::unordered_map<int, CurveOrigin> origins;
-  const FeatureGraph features = buildFeatures(job, oracle, criteria, origins);
+  const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins);
   clock.finish("features");
   control.checkpoint();
 
@@ -323,6 +326,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report["criteria"] = crit;
   report["features"] = {{"enabled", job.features},
                         {"sharp_angle_deg", job.sharp_angle_deg},
+                        {"junctions", job.junctions},
                         {"polylines", features.polylines.size()},
                         {"protecting_ball_vertices", stats.protecting_balls}};
   report["seeds_on_boundary"] = stats.initial_points;
