@@ -1,9 +1,10 @@
 """Run a job through the core: console progress headless, a progress dialog in the GUI.
 
-In the GUI the core runs on a worker thread (it releases the GIL while meshing) so the main
-window keeps painting; the main thread pumps Qt events and owns every widget, the worker only
-writes the latest (phase, fraction) into a shared dict. Cancel makes the progress callback
-return False, which the core turns into oraclemesh.Cancelled.
+The core always runs in a child process (oraclemesh.run_isolated), so a crash of the native
+code becomes an error message and FreeCAD keeps running. In the GUI a worker thread waits on
+that process so the main window keeps painting; the main thread pumps Qt events and owns
+every widget, the worker only writes the latest (phase, fraction) into a shared dict. Cancel
+makes the progress callback return False, which ends the child process at once.
 """
 import threading
 import time
@@ -26,7 +27,7 @@ def import_core():
 def run_job(job, label="OracleMesh"):
     if FreeCAD.GuiUp:
         return _run_with_dialog(job, label)
-    return import_core().run(job, progress=_ConsoleProgress(label))
+    return import_core().run_isolated(job, progress=_ConsoleProgress(label))
 
 
 class _ConsoleProgress:
@@ -61,7 +62,7 @@ def _run_with_dialog(job, label):
 
     def work():
         try:
-            state["result"] = core.run(job, progress=progress)
+            state["result"] = core.run_isolated(job, progress=progress)
         except BaseException as e:  # handed to the main thread, re-raised there
             state["error"] = e
 

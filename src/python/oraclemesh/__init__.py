@@ -9,11 +9,15 @@ The job dict is the job contract of DESIGN.md (the same JSON the `oraclemesh` CL
 import json
 import math
 import os
+import signal
+import subprocess
+import sys
+import tempfile
 
 from . import _core
 from ._core import Cancelled, Error, InputError, LimitError
 
-__all__ = ["run", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
+__all__ = ["run", "run_isolated", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
 __version__ = _core.version()
 
 
@@ -29,16 +33,13 @@ class Result:
     report: dict (counts, quality, criteria, seconds per phase, warnings).
     """
 
+    ARRAYS = ("points", "tets", "tet_materials", "boundary_triangles", "boundary_materials",
+              "feature_edges", "feature_edge_curves", "vertex_dimension")
+
     def __init__(self, arrays):
-        self.points = arrays["points"]
-        self.tets = arrays["tets"]
-        self.tet_materials = arrays["tet_materials"]
-        self.boundary_triangles = arrays["boundary_triangles"]
-        self.boundary_materials = arrays["boundary_materials"]
-        self.feature_edges = arrays["feature_edges"]
-        self.feature_edge_curves = arrays["feature_edge_curves"]
-        self.vertex_dimension = arrays["vertex_dimension"]
-        self.report = json.loads(arrays["report"])
+        for name in self.ARRAYS:
+            setattr(self, name, arrays[name])
+        self.report = json.loads(str(arrays["report"]))
 
     def __repr__(self):
         return "<oraclemesh.Result %d points, %d tets>" % (len(self.points), len(self.tets))
@@ -90,3 +91,82 @@ def run(job, progress=None, base_directory=None):
                              "strings and numbers" % e) from None
         base = base_directory or os.getcwd()
     return Result(_core.run(text, base, progress))
+
+
+def run_isolated(job, progress=None, base_directory=None):
+    """Like run(), but the core runs in a child Python process (oraclemesh.worker).
+
+    A crash of the native core then raises oraclemesh.Error here instead of ending the
+    caller's process (FreeCAD), and cancelling (progress returning False) ends the child at
+    once. Costs a process start and a copy of the result arrays.
+    """
+    if not isinstance(job, (str, os.PathLike)):
+        bad = _first_non_finite(job, "")
+        if bad:
+            raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
+    with tempfile.TemporaryDirectory(prefix="oraclemesh-") as tmp:
+        if isinstance(job, (str, os.PathLike)):
+            job_path = os.path.abspath(os.fspath(job))
+            base_directory = base_directory or os.path.dirname(job_path)
+            with open(job_path) as f:
+                job = json.load(f)
+        job_path = os.path.join(tmp, "job.json")
+        with open(job_path, "w") as f:
+            json.dump(_with_absolute_paths(job, base_directory or os.getcwd()), f)
+        result_path = os.path.join(tmp, "result.npz")
+        package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+            [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+        # The module is built for the system interpreter; inside FreeCAD sys.executable is
+        # FreeCAD itself, so the interpreter is found from the running Python's prefix.
+        python = os.path.join(sys.base_prefix, "bin", "python3")
+        # stderr goes to a file: a pipe nobody reads while stdout is read could fill and stall.
+        stderr_file = open(os.path.join(tmp, "stderr.txt"), "w+")
+        child = subprocess.Popen([python, "-m", "oraclemesh.worker", job_path, result_path],
+                                 stdout=subprocess.PIPE, stderr=stderr_file, env=env, text=True)
+        cancelled = False
+        for line in child.stdout:
+            if not line.startswith("progress ") or progress is None or cancelled:
+                continue
+            _, fraction, phase = line.rstrip("\n").split(" ", 2)
+            if progress(phase, float(fraction)) is False:
+                cancelled = True
+                child.send_signal(signal.SIGKILL)
+        code = child.wait()
+        stderr_file.seek(0)
+        stderr = stderr_file.read()
+        stderr_file.close()
+        if cancelled:
+            raise Cancelled("meshing was cancelled")
+        if code == 0:
+            with np_load(result_path) as arrays:
+                return Result({name: arrays[name] for name in Result.ARRAYS + ("report",)})
+        if os.path.exists(result_path + ".error.json"):
+            with open(result_path + ".error.json") as f:
+                error = json.load(f)
+            raise {"InputError": InputError, "LimitError": LimitError,
+                   "Cancelled": Cancelled}.get(error["type"], Error)(error["message"])
+        how = ("was killed by signal %d" % -code) if code < 0 else ("exited with code %d" % code)
+        raise Error("the OracleMesh core crashed on this job (its process %s); the calling "
+                    "program is unaffected. Please report it with the job and this output:\n%s"
+                    % (how, stderr[-2000:]))
+
+
+def np_load(path):
+    import numpy
+    return numpy.load(path, allow_pickle=False)
+
+
+def _with_absolute_paths(job, base):
+    """The child runs elsewhere: input and output paths are made absolute first."""
+    job = json.loads(json.dumps(job))
+    for entry in job.get("inputs", []) if isinstance(job, dict) else []:
+        if isinstance(entry, dict) and isinstance(entry.get("file"), str):
+            entry["file"] = os.path.join(base, entry["file"])
+    output = job.get("output") if isinstance(job, dict) else None
+    if isinstance(output, dict):
+        if isinstance(output.get("files"), list):
+            output["files"] = [os.path.join(base, f) if isinstance(f, str) else f for f in output["files"]]
+        if isinstance(output.get("report"), str):
+            output["report"] = os.path.join(base, output["report"])
+    return job

@@ -1,0 +1,57 @@
+"""oraclemesh.run_isolated: the core in a child process, so its crash cannot end the caller
+(FreeCAD). Same results as run(), errors with their types, cancel, and a real crash."""
+import os
+import signal
+
+import numpy as np
+import pytest
+
+import oraclemesh
+from test_job_contract import sphere_job
+
+
+def worker_pids():
+    pids = []
+    for pid in os.listdir("/proc"):
+        if pid.isdigit():
+            try:
+                with open("/proc/%s/cmdline" % pid, "rb") as f:
+                    if b"oraclemesh.worker" in f.read():
+                        pids.append(int(pid))
+            except OSError:
+                pass
+    return pids
+
+
+def test_same_mesh_as_in_process():
+    job = sphere_job(order=2)
+    here = oraclemesh.run(job)
+    there = oraclemesh.run_isolated(job)
+    assert np.array_equal(here.points, there.points)
+    assert np.array_equal(here.tets, there.tets)
+    assert np.array_equal(here.tet_materials, there.tet_materials)
+    assert there.report["counts"] == here.report["counts"]
+
+
+def test_errors_keep_their_type_and_message():
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run_isolated(sphere_job(criteria={"default": {"cell_size": 1e-4}}))
+    assert "max_vertices" in str(err.value)
+
+
+def test_cancel_ends_the_child():
+    with pytest.raises(oraclemesh.Cancelled):
+        oraclemesh.run_isolated(sphere_job(order=1), progress=lambda phase, f: phase != "refine")
+    assert worker_pids() == []
+
+
+def test_crash_of_the_core_is_an_error_not_a_crash():
+    def crash(phase, fraction):
+        if phase == "refine":
+            for pid in worker_pids():
+                os.kill(pid, signal.SIGSEGV)  # what a segfault in CGAL would do
+        return True
+
+    with pytest.raises(oraclemesh.Error) as err:
+        oraclemesh.run_isolated(sphere_job(order=1), progress=crash)
+    assert "crashed" in str(err.value) and "signal %d" % signal.SIGSEGV in str(err.value)
