@@ -140,3 +140,21 @@ def test_cli_bad_input_exits_nonzero_with_message(tmp_path, job, expected):
 def test_cli_missing_job_file(tmp_path):
     run = subprocess.run([CLI, str(tmp_path / "missing.json")], capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and "missing.json" in run.stderr
+
+
+def test_every_boundary_component_is_meshed():
+    """A small part far from a big one: seeds on every input's boundary make Mesh_3 find it
+    (its own seeding shoots rays from the bounding-box centre and can miss it)."""
+    job = {
+        "inputs": [{"name": "big", "sphere": {"center": [0, 0, 0], "radius": 10}, "material": 1},
+                   {"name": "small", "sphere": {"center": [40, 0, 0], "radius": 1.0}, "material": 2}],
+        "criteria": {"default": {"cell_size": 3, "facet_size": 2, "facet_distance": 0.05},
+                     "materials": {"2": {"cell_size": 0.4, "facet_size": 0.3, "facet_distance": 0.005}}},
+        "element_order": 2,
+    }
+    result = oraclemesh.run(job)
+    small = result.tets[result.tet_materials == 2]
+    assert len(small) > 20
+    exact = 4.0 / 3.0 * math.pi
+    assert abs(tet10_volume(result.points, small) - exact) < 0.01 * exact
+    assert result.report["seeds_on_boundary"] > 0
