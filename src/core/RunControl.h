@@ -3,7 +3,9 @@
 // Long loops call checkpoint() often; it throws instead of returning a half-made result.
 #include <atomic>
 #include <chrono>
+#include <algorithm>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "Error.h"
@@ -29,6 +31,10 @@ class RunControl {
     if (timeLimit_ > 0 && elapsedSeconds() > timeLimit_)
       throw LimitError("meshing exceeded limits.time_limit = " + std::to_string(timeLimit_) +
                        " s: coarsen the sizes or raise limits.time_limit");
+  }
+  // Seconds left before the time limit; infinity when there is no limit.
+  double remainingSeconds() const {
+    return timeLimit_ > 0 ? std::max(0.0, timeLimit_ - elapsedSeconds()) : std::numeric_limits<double>::infinity();
   }
   double elapsedSeconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -7,6 +7,7 @@ import json
 import math
 import os
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -158,3 +159,13 @@ def test_every_boundary_component_is_meshed():
     exact = 4.0 / 3.0 * math.pi
     assert abs(tet10_volume(result.points, small) - exact) < 0.01 * exact
     assert result.report["seeds_on_boundary"] > 0
+
+
+def test_time_limit_stops_with_a_clear_error():
+    job = sphere_job(order=1, criteria={"default": {"cell_size": 0.4, "facet_size": 0.4, "facet_distance": 0.01}},
+                     limits={"time_limit": 0.3})
+    started = time.time()
+    with pytest.raises(oraclemesh.LimitError) as err:
+        oraclemesh.run(job)
+    assert "limits.time_limit" in str(err.value)
+    assert time.time() - started < 5.0  # stopped near the limit, not at the end of meshing

@@ -11,15 +11,20 @@ from test_job_contract import sphere_job
 
 
 def worker_pids():
+    """This test process's live oraclemesh.worker children (other runs may have their own)."""
     pids = []
     for pid in os.listdir("/proc"):
         if pid.isdigit():
             try:
                 with open("/proc/%s/cmdline" % pid, "rb") as f:
-                    if b"oraclemesh.worker" in f.read():
-                        pids.append(int(pid))
+                    cmdline = f.read()
+                with open("/proc/%s/stat" % pid) as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
             except OSError:
-                pass
+                continue
+            state, parent = fields[0], int(fields[1])
+            if b"oraclemesh.worker" in cmdline and parent == os.getpid() and state != "Z":
+                pids.append(int(pid))
     return pids
 
 

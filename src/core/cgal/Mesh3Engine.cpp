@@ -18,6 +18,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <thread>
 #include <functional>
 #include <unordered_map>
 
@@ -184,27 +186,34 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   const CGAL::Bbox_3 cgalBox(box.min[0] - margin, box.min[1] - margin, box.min[2] - margin,
                              box.max[0] + margin, box.max[1] + margin, box.max[2] + margin);
 
-  // The stop flag is how Mesh_3 is interrupted; the labeling function, called constantly,
-  // raises it on cancel or time-out and reports progress on the way.
+  // The stop flag is how Mesh_3's refinement and edge protection are interrupted. A watchdog
+  // raises it on cancel or time-out, whatever phase is running; the labeling function, called
+  // constantly, reports progress on the way.
   std::atomic<bool> stop{false};
-  bool timedOut = false;
+  std::atomic<bool> finished{false};
+  std::thread watchdog([&] {
+    while (!finished && !stop) {
+      if (control.cancelRequested()) stop = true;
+      if (control.remainingSeconds() <= 0) stop = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  struct JoinOnExit {
+    std::atomic<bool>& finished;
+    std::thread& thread;
+    ~JoinOnExit() {
+      finished = true;
+      thread.join();
+    }
+  } joinWatchdog{finished, watchdog};
+
   int64_t calls = 0;
   const C3t3* progressSource = nullptr;
+  std::string phase = "protect features";
   const double expectedVertices = std::max<double>(1000.0, static_cast<double>(options.max_vertices) / 50.0);
   std::function<int(const Point_3&)> labeling = [&](const Point_3& p) {
-    if ((++calls & 4095) == 0) {
-      if (control.cancelRequested()) stop = true;
-      if (!control.cancelRequested()) {
-        try {
-          control.checkpoint();
-        } catch (const LimitError&) {
-          timedOut = true;
-          stop = true;
-        }
-      }
-      if (progressSource)
-        control.report("refine", std::min(0.99, progressSource->triangulation().number_of_vertices() / expectedVertices));
-    }
+    if ((++calls & 4095) == 0 && progressSource && phase == "refine")
+      control.report(phase, std::min(0.99, progressSource->triangulation().number_of_vertices() / expectedVertices));
     return oracle.label(toPoint3(p));
   };
 
@@ -246,10 +255,18 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   const std::size_t maxVertices = options.max_vertices > 0 ? static_cast<std::size_t>(options.max_vertices) : 0;
   auto throwIfStopped = [&](const char* phase) {
     if (control.cancelRequested()) throw Cancelled();
-    if (timedOut) control.checkpoint();  // throws the time-limit LimitError
+    control.checkpoint();  // throws the time-limit LimitError once the limit has passed
     if (errorCode == CGAL::CGAL_MESH_3_MAXIMAL_NUMBER_OF_VERTICES_REACHED)
       throw LimitError(std::string("the mesh reached limits.max_vertices = ") + std::to_string(options.max_vertices) +
                        " vertices during " + phase + ": coarsen cell_size / facet_size / facet_distance or raise the limit");
+  };
+
+  // The optimizers take no stop flag, only a time limit: they get what is left of the job's
+  // limit (0 = none for CGAL), so limits.time_limit holds in every phase.
+  auto optimizerTimeLimit = [&]() {
+    double limit = options.optimize_time_limit > 0 ? options.optimize_time_limit : std::numeric_limits<double>::infinity();
+    limit = std::min(limit, control.remainingSeconds());
+    return std::isfinite(limit) ? std::max(limit, 1e-3) : 0.0;
   };
 
   control.report("protect features", 0);
@@ -264,7 +281,8 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   if (statistics) statistics->initial_points = seeds;
   timer.finish("seed");
 
-  control.report("refine", 0);
+  phase = "refine";
+  control.report(phase, 0);
   CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_perturb(), p::no_exude(), p::no_reset_c3t3(),
                       p::mesh_3_options(p::maximal_number_of_vertices = maxVertices,
                                         p::pointer_to_error_code = &errorCode,
@@ -276,17 +294,19 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   timer.finish("refine");
 
   if (options.perturb) {
-    control.report("perturb", 0);
+    phase = "perturb";
+    control.report(phase, 0);
     // Perturbation only works on slivers below the bound: with no bound it keeps trying to
     // raise the worst angle until the time limit, which makes the result machine-dependent.
-    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = options.optimize_time_limit,
+    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = optimizerTimeLimit(),
                          p::sliver_bound = options.sliver_bound);
     throwIfStopped("perturbation");
   }
   timer.finish("perturb");
   if (options.exude) {
-    control.report("exude", 0);
-    CGAL::exude_mesh_3(c3t3, p::time_limit = options.optimize_time_limit, p::sliver_bound = options.sliver_bound);
+    phase = "exude";
+    control.report(phase, 0);
+    CGAL::exude_mesh_3(c3t3, p::time_limit = optimizerTimeLimit(), p::sliver_bound = options.sliver_bound);
     throwIfStopped("exudation");
   }
   timer.finish("exude");
