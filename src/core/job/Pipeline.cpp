@@ -1,6 +1,9 @@
 #include "job/Pipeline.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -10,6 +13,7 @@
 #include "cgal/Mesh3Engine.h"
 #include "domain/BrepSolid.h"
 #include "domain/Sphere.h"
+#include "domain/TriangleSurface.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
 #include "features/JunctionCurves.h"
@@ -45,8 +49,12 @@ class PhaseClock {
 
 SourcePtr loadSource(const InputSpec& in) {
   switch (in.kind) {
-    case InputSpec::Kind::File:
+    case InputSpec::Kind::File: {
+      std::string ext = std::filesystem::path(in.file).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (ext == ".stl" || ext == ".obj" || ext == ".off") return TriangleSurface::fromFile(in.file, in.name);
       return BrepSolid::fromFile(in.file, in.name);
+    }
     case InputSpec::Kind::BrepText:
       return BrepSolid::fromBrepText(in.brep_text, in.name);
     case InputSpec::Kind::Sphere:

@@ -1,0 +1,200 @@
+#include "domain/TriangleSurface.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "Error.h"
+
+namespace oraclemesh {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using KPoint = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<KPoint>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Side = CGAL::Side_of_triangle_mesh<Mesh, Kernel, CGAL::Default, Tree>;
+
+struct TriangleSurface::Impl {
+  std::string name;
+  Mesh mesh;
+  std::unique_ptr<Tree> tree;
+  std::unique_ptr<Side> side;
+  Bbox box;
+  double volume = 0;
+};
+
+TriangleSurface::TriangleSurface() : impl_(std::make_unique<Impl>()) {}
+TriangleSurface::~TriangleSurface() = default;
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::string where(const KPoint& p) {
+  std::ostringstream out;
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return out.str();
+}
+
+}  // namespace
+
+std::shared_ptr<TriangleSurface> TriangleSurface::fromFile(const std::string& path, const std::string& name) {
+  const std::string what = "input '" + name + "' (file '" + path + "')";
+  if (!std::filesystem::is_regular_file(path)) throw InputError(what + " cannot be read: check the path");
+  if (std::filesystem::file_size(path) == 0) throw InputError(what + " is empty: export the surface again");
+  const std::string ext = lowerExtension(path);
+  if (ext != ".stl" && ext != ".obj" && ext != ".off")
+    throw InputError(what + ": triangle surfaces are read from .stl, .obj or .off files");
+
+  std::vector<KPoint> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  bool read = false;
+  try {
+    read = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+  } catch (const std::exception&) {
+    read = false;
+  }
+  if (!read || polygons.empty())
+    throw InputError(what + " is not a readable " + ext.substr(1) +
+                     " file with triangles (truncated or damaged?): export it again");
+  for (const auto& polygon : polygons)
+    for (std::size_t v : polygon)
+      if (v >= points.size()) throw InputError(what + " refers to vertices it does not have: export it again");
+  // STL repeats every vertex per triangle: merge them so the triangles share edges.
+  PMP::merge_duplicate_points_in_polygon_soup(points, polygons);
+  // Triangles that collapsed onto an edge or a point (merged corners) bound nothing.
+  polygons.erase(std::remove_if(polygons.begin(), polygons.end(),
+                                [](const std::vector<std::size_t>& t) {
+                                  return t.size() != 3 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+                                }),
+                 polygons.end());
+  if (polygons.empty()) throw InputError(what + " has only degenerate triangles: export it again");
+
+  auto surface = std::shared_ptr<TriangleSurface>(new TriangleSurface());
+  Impl& m = *surface->impl_;
+  m.name = name;
+  // Orientation is fixed silently (scans come either way round); what cannot be oriented
+  // consistently is a non-manifold surface.
+  if (!PMP::orient_polygon_soup(points, polygons))
+    throw InputError(what + " is not a manifold surface (edges shared by more than two triangles or "
+                     "surfaces touching at a vertex): repair it (e.g. MeshLab, FreeCAD Mesh > Analyze)");
+  PMP::polygon_soup_to_polygon_mesh(points, polygons, m.mesh);
+  std::size_t borderEdges = 0;
+  for (auto h : m.mesh.halfedges())
+    if (m.mesh.is_border(h)) ++borderEdges;
+  if (borderEdges > 0)
+    throw InputError(what + " is not closed: it has holes bounded by " + std::to_string(borderEdges) +
+                     " border edges; fill the holes (FreeCAD Mesh > Analyze > Evaluate and repair)");
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> crossing;
+  PMP::self_intersections(m.mesh, std::back_inserter(crossing));
+  if (!crossing.empty()) {
+    const auto h = m.mesh.halfedge(crossing.front().first);
+    throw InputError(what + " intersects itself (" + std::to_string(crossing.size()) +
+                     " pairs of triangles, first near " + where(m.mesh.point(m.mesh.target(h))) +
+                     "): repair it so the surface bounds one solid");
+  }
+  if (!PMP::is_outward_oriented(m.mesh)) PMP::reverse_face_orientations(m.mesh);
+
+  for (auto v : m.mesh.vertices()) {
+    const KPoint& p = m.mesh.point(v);
+    m.box.add(Point3{p.x(), p.y(), p.z()});
+  }
+  m.volume = CGAL::to_double(PMP::volume(m.mesh));
+  m.tree = std::make_unique<Tree>(faces(m.mesh).first, faces(m.mesh).second, m.mesh);
+  m.tree->accelerate_distance_queries();  // built now, so that const queries never build
+  m.side = std::make_unique<Side>(*m.tree);
+  return surface;
+}
+
+const std::string& TriangleSurface::name() const { return impl_->name; }
+Bbox TriangleSurface::bbox() const { return impl_->box; }
+double TriangleSurface::volume() const { return impl_->volume; }
+size_t TriangleSurface::triangleCount() const { return impl_->mesh.number_of_faces(); }
+
+bool TriangleSurface::inside(const Point3& p) const {
+  return (*impl_->side)(KPoint(p[0], p[1], p[2])) != CGAL::ON_UNBOUNDED_SIDE;
+}
+
+BoundaryProjection TriangleSurface::project(const Point3& p) const {
+  const KPoint q(p[0], p[1], p[2]);
+  const auto [closest, face] = impl_->tree->closest_point_and_primitive(q);
+  BoundaryProjection r;
+  r.point = {closest.x(), closest.y(), closest.z()};
+  r.patch = static_cast<int>(face);
+  r.distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(q, closest)));
+  return r;
+}
+
+std::vector<BoundarySample> TriangleSurface::boundarySamples(double spacing) const {
+  // Triangle centroids, thinned to about `spacing` apart by a grid; every connected component
+  // keeps its first triangle, so none is missed.
+  const Mesh& mesh = impl_->mesh;
+  std::vector<BoundarySample> samples;
+  std::set<std::array<long long, 3>> used;
+  std::vector<char> componentSeen;
+  std::vector<std::size_t> component(mesh.number_of_faces(), 0);
+  std::size_t components = 0;
+  {
+    std::vector<char> visited(mesh.number_of_faces(), 0);
+    for (auto f : mesh.faces()) {
+      if (visited[f]) continue;
+      std::vector<Mesh::Face_index> stack{f};
+      visited[f] = 1;
+      while (!stack.empty()) {
+        const auto g = stack.back();
+        stack.pop_back();
+        component[g] = components;
+        for (auto h : CGAL::halfedges_around_face(mesh.halfedge(g), mesh)) {
+          const auto n = mesh.face(mesh.opposite(h));
+          if (n != Mesh::null_face() && !visited[n]) {
+            visited[n] = 1;
+            stack.push_back(n);
+          }
+        }
+      }
+      ++components;
+    }
+  }
+  componentSeen.assign(components, 0);
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    const KPoint a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h)),
+                 c = mesh.point(mesh.target(mesh.next(h)));
+    const Point3 centroid{(a.x() + b.x() + c.x()) / 3, (a.y() + b.y() + c.y()) / 3, (a.z() + b.z() + c.z()) / 3};
+    const auto n = CGAL::cross_product(b - a, c - a);
+    const double len = std::sqrt(CGAL::to_double(n.squared_length()));
+    if (len <= 0) continue;
+    const std::array<long long, 3> cell{static_cast<long long>(std::floor(centroid[0] / spacing)),
+                                        static_cast<long long>(std::floor(centroid[1] / spacing)),
+                                        static_cast<long long>(std::floor(centroid[2] / spacing))};
+    const bool first = !componentSeen[component[f]];
+    if (!used.insert(cell).second && !first) continue;
+    componentSeen[component[f]] = 1;
+    samples.push_back({centroid, {n.x() / len, n.y() / len, n.z() / len}, static_cast<int>(f)});
+  }
+  return samples;
+}
+
+}  // namespace oraclemesh
