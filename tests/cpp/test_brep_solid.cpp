@@ -32,31 +32,16 @@
 #include "domain/BrepSolid.h"
 #include "domain/Sphere.h"
 
+#include "occt_checks.h"
+
 namespace oraclemesh {
 namespace {
 
-std::string cadDir() {
-  const char* dir = std::getenv("ORACLEMESH_CAD_DIR");
-  return dir && *dir ? dir : "/work/shared/data/cad";
-}
+using test::cadDir;
+using test::distanceToShape;
 
 gp_Pnt gp(const Point3& p) { return gp_Pnt(p[0], p[1], p[2]); }
 
-// Distance to the boundary of `shape`: BRepExtrema reports 0 for points inside a solid,
-// so solids are measured through their faces.
-double distanceToShape(const Point3& p, const TopoDS_Shape& shape) {
-  TopoDS_Shape target = shape;
-  if (shape.ShapeType() <= TopAbs_SOLID) {
-    BRep_Builder builder;
-    TopoDS_Compound faces;
-    builder.MakeCompound(faces);
-    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) builder.Add(faces, ex.Current());
-    target = faces;
-  }
-  BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), target);
-  EXPECT_TRUE(dist.IsDone());
-  return dist.Value();
-}
 
 std::vector<Point3> randomPointsAround(const Bbox& box, int count, unsigned seed) {
   std::mt19937 rng(seed);

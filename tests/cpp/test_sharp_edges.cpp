@@ -25,31 +25,16 @@
 #include "domain/HierarchicalOracle.h"
 #include "features/BrepSharpEdges.h"
 
+#include "occt_checks.h"
+
 namespace oraclemesh {
 namespace {
 
 constexpr int kPartStepSharpEdges = 50;  // of 70 edges, 2 of them seams
 
-std::string cadDir() {
-  const char* dir = std::getenv("ORACLEMESH_CAD_DIR");
-  return dir && *dir ? dir : "/work/shared/data/cad";
-}
+using test::cadDir;
+using test::distanceToShape;
 
-// Distance to the boundary of `shape`: BRepExtrema reports 0 for points inside a solid,
-// so solids are measured through their faces.
-double distanceToShape(const Point3& p, const TopoDS_Shape& shape) {
-  TopoDS_Shape target = shape;
-  if (shape.ShapeType() <= TopAbs_SOLID) {
-    BRep_Builder builder;
-    TopoDS_Compound faces;
-    builder.MakeCompound(faces);
-    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) builder.Add(faces, ex.Current());
-    target = faces;
-  }
-  BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), target);
-  EXPECT_TRUE(dist.IsDone());
-  return dist.Value();
-}
 
 bool isSeamOf(const BrepSolid& solid, int edge) {
   for (int f : solid.facesOfEdge(edge))

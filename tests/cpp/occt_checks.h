@@ -1,0 +1,40 @@
+#pragma once
+// OpenCASCADE-based measurements shared by the C++ tests: where the shared CAD models are,
+// and exact distances to B-rep boundaries.
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRep_Builder.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "Geometry.h"
+
+namespace oraclemesh::test {
+
+// ../shared/data/cad beside the repository; tests/run.sh and CMake set ORACLEMESH_CAD_DIR.
+inline std::string cadDir() {
+  const char* dir = std::getenv("ORACLEMESH_CAD_DIR");
+  return dir && *dir ? dir : "../shared/data/cad";
+}
+
+// Distance to the boundary of `shape`: BRepExtrema reports 0 for points inside a solid,
+// so solids are measured through their faces.
+inline double distanceToShape(const Point3& p, const TopoDS_Shape& shape) {
+  TopoDS_Shape target = shape;
+  if (shape.ShapeType() <= TopAbs_SOLID) {
+    BRep_Builder builder;
+    TopoDS_Compound faces;
+    builder.MakeCompound(faces);
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) builder.Add(faces, ex.Current());
+    target = faces;
+  }
+  BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), target);
+  EXPECT_TRUE(dist.IsDone());
+  return dist.Value();
+}
+
+}  // namespace oraclemesh::test
