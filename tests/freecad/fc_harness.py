@@ -99,6 +99,21 @@ def material(doc, analysis, name, youngs_mpa, poisson, refs):
     return mat_obj
 
 
+def recompute_mesh(doc, mesh):
+    """Recompute the document; returns the mesh's facts, or raises with the mesh's status."""
+    doc.recompute()
+    if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
+        raise RuntimeError("meshing failed: " + mesh.Status)
+    return mesh_facts(mesh)
+
+
+def solve_displacements(analysis, solver, workdir):
+    """Run CalculiX on the analysis: ({node id: (ux, uy, uz)}, path of the .inp)."""
+    from oraclemesh_fc.calculix import run_calculix
+    result, inp = run_calculix(analysis, solver, workdir)
+    return displacements(result), inp
+
+
 def displacements(result):
     """{node id: (ux, uy, uz)} of a FEM result object."""
     return {n: (v.x, v.y, v.z) for n, v in zip(result.NodeNumbers, result.DisplacementVectors)}

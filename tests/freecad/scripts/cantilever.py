@@ -11,7 +11,6 @@ def check(params):
     import FreeCAD
     import ObjectsFem
     from oraclemesh_fc import makeMesh
-    from oraclemesh_fc.calculix import run_calculix
 
     doc = FreeCAD.newDocument("Cantilever")
     beam = h.box(doc, "Beam", 0, 0, 0, 100, 10, 10)
@@ -30,12 +29,8 @@ def check(params):
     analysis.addObject(force)
 
     mesh = makeMesh(doc, [beam], analysis=analysis, element_order=2, **params["mesh"])
-    doc.recompute()
-    if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
-        raise RuntimeError("meshing failed: " + mesh.Status)
-    facts = h.mesh_facts(mesh)
-    result, inp = run_calculix(analysis, solver, params["workdir"])
-    disp = h.displacements(result)
+    facts = h.recompute_mesh(doc, mesh)
+    disp, _ = h.solve_displacements(analysis, solver, params["workdir"])
     tip_nodes = mesh.FemMesh.getNodesByFace(beam.Shape.getElement(tip_face))
     uz = [disp[n][2] for n in tip_nodes]
     return {"tip_deflection": abs(sum(uz) / len(uz)), "tip_nodes": len(tip_nodes),

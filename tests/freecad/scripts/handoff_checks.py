@@ -10,6 +10,9 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+from tet_geometry import tet10_volumes  # noqa: E402
+
 R, PIN_H = 5.0, 40.0
 PLATE = (100.0, 60.0, 10.0)
 CUT = (80.0, 40.0, -1.0, 30.0, 30.0, 12.0)  # removes x 80..100, y 40..60 of the plate
@@ -24,27 +27,6 @@ def build(doc):
     cut = h.box(doc, "CutBox", *CUT)
     doc.recompute()
     return pin, plate, cut
-
-
-def tet10_volumes(points, tets):
-    """Exact volume of each quadratic tet (FreeCAD node order), 3x3x3 Gauss on the Duffy cube."""
-    import numpy as np
-    g, w = np.array([0.1127016653792583, 0.5, 0.8872983346207417]), np.array([5, 8, 5]) / 18.0
-    edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
-    dL = np.array([[-1, -1, -1], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
-    x = points[tets]
-    vol = np.zeros(len(tets))
-    for a in range(3):
-        for b in range(3):
-            for c in range(3):
-                u, s, r = g[a], g[b], g[c]
-                xi, eta, zeta = u, s * (1 - u), r * (1 - u) * (1 - s)
-                L = np.array([1 - xi - eta - zeta, xi, eta, zeta])
-                grads = [(4 * L[i] - 1) * dL[i] for i in range(4)]
-                grads += [4 * (L[i] * dL[j] + L[j] * dL[i]) for i, j in edges]
-                J = np.einsum("mkr,kc->mrc", x, np.array(grads))
-                vol += w[a] * w[b] * w[c] * (1 - u) ** 2 * (1 - s) * np.linalg.det(J)
-    return np.abs(vol)  # FreeCAD order is negatively oriented
 
 
 def arrays(fm):
@@ -75,11 +57,8 @@ def check(params):
     fixed.References = [(plate, fixed_face)]
     analysis.addObject(fixed)
     mesh = makeMesh(doc, [pin, plate], analysis=analysis, cuts=[cut], **params["mesh"])
-    doc.recompute()
-    if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
-        raise RuntimeError("meshing failed: " + mesh.Status)
+    out["mesh"] = h.recompute_mesh(doc, mesh)
     fm = mesh.FemMesh
-    out["mesh"] = h.mesh_facts(mesh)
     out["groups_expected"] = {m_pin.Name + "_Volumes": "pin", m_plate.Name + "_Volumes": "plate"}
     out["in_analysis"] = mesh in analysis.Group
     report = json.loads(mesh.Report)
@@ -87,7 +66,8 @@ def check(params):
 
     points, tets, vols, index = arrays(fm)
     group_elems = {fm.getGroupName(g): set(fm.getGroupElements(g)) for g in fm.Groups}
-    vol = tet10_volumes(points, tets) if tets.shape[1] == 10 else None
+    # FreeCAD's order is negatively oriented: sizes are the absolute values.
+    vol = np.abs(tet10_volumes(points, tets)) if tets.shape[1] == 10 else None
     if vol is not None:
         out["volume"] = {name: float(sum(v for e, v in zip(vols, vol) if e in elems))
                          for name, elems in group_elems.items()}

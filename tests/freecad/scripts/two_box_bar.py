@@ -24,7 +24,6 @@ def check(params):
     import FreeCAD
     import ObjectsFem
     from oraclemesh_fc import makeMesh
-    from oraclemesh_fc.calculix import run_calculix
 
     doc = FreeCAD.newDocument("TwoBoxBar")
     steel = h.box(doc, "SteelBox", 0, 0, 0, 110, 10, 10)
@@ -46,12 +45,8 @@ def check(params):
     analysis.addObject(force)
 
     mesh = makeMesh(doc, [steel, alu], analysis=analysis, **params["mesh"])
-    doc.recompute()
-    if not mesh.isValid() or mesh.FemMesh.VolumeCount == 0:
-        raise RuntimeError("meshing failed: " + mesh.Status)
-    facts = h.mesh_facts(mesh)
-    result, inp = run_calculix(analysis, solver, params["workdir"])
-    disp = h.displacements(result)
+    facts = h.recompute_mesh(doc, mesh)
+    disp, inp = h.solve_displacements(analysis, solver, params["workdir"])
     end_nodes = mesh.FemMesh.getNodesByFace(alu.Shape.getElement(end_face))
     ux = [disp[n][0] for n in end_nodes]
     # The ccx input must carry one element set per material, from the groups.
