@@ -25,6 +25,14 @@ struct BoundarySample {
   int patch = -1;
 };
 
+// One place where a segment a->b crosses a source's boundary.
+struct BoundaryCrossing {
+  double t = 0.0;         // the point is a + t (b - a), t in [0, 1]
+  Point3 point{};
+  int patch = -1;         // boundary patch hit (B-rep face index; image: label on the far side)
+  bool entering = false;  // the segment goes from outside to inside the source here
+};
+
 class Source {
  public:
   virtual ~Source() = default;
@@ -38,9 +46,18 @@ class Source {
   virtual BoundaryProjection project(const Point3& p) const = 0;
   // At least one sample on every face / connected boundary component, about `spacing` apart.
   virtual std::vector<BoundarySample> boundarySamples(double spacing) const = 0;
+  // Boundary crossings of the segment a->b, sorted by t. Sources with an exact intersection
+  // override this; the default finds sign changes of inside() on `samples` steps and
+  // bisects each to `tolerance` (absolute), with the patch from project().
+  virtual std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const;
   // Volume of the source on its own (used for reports and absurd-size checks).
   virtual double volume() const = 0;
 };
+
+// The bisection fallback behind Source::crossings, usable by overrides for segments their
+// exact method cannot answer. Misses pairs of crossings closer than one step.
+std::vector<BoundaryCrossing> crossingsByBisection(const Source& source, const Point3& a,
+                                                  const Point3& b, int samples, double tolerance);
 
 using SourcePtr = std::shared_ptr<const Source>;
 
