@@ -27,23 +27,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
-// Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on
-// that face); false where the surface is singular (apex, pole).
-bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, double u, gp_Vec& normal) {
-  BRepAdaptor_Curve2d pcurve(edge, face);
-  const gp_Pnt2d uv = pcurve.Value(u);
-  BRepAdaptor_Surface surface(face, Standard_False);
-  gp_Pnt p;
-  gp_Vec du, dv;
-  surface.D1(uv.X(), uv.Y(), p, du, dv);
-  normal = du.Crossed(dv);
-  const double scale = du.Magnitude() * dv.Magnitude();
-  if (!(normal.Magnitude() > 1e-10 * scale) || scale <= 0) return false;
-  normal.Normalize();
-  if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
-  return true;
-}
-
 // Sharp when the faces' normals differ by more than the threshold anywhere along the edge:
 // a fillet that runs out tangentially at one end is still sharp where it is not tangent.
 bool facesMeetSharply(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoDS_Face& b, double cosThreshold) {
@@ -62,6 +45,21 @@ bool facesMeetSharply(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoD
 }
 
 }  // namespace
+
+bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, double u, gp_Vec& normal) {
+  BRepAdaptor_Curve2d pcurve(edge, face);
+  const gp_Pnt2d uv = pcurve.Value(u);
+  BRepAdaptor_Surface surface(face, Standard_False);
+  gp_Pnt p;
+  gp_Vec du, dv;
+  surface.D1(uv.X(), uv.Y(), p, du, dv);
+  normal = du.Crossed(dv);
+  const double scale = du.Magnitude() * dv.Magnitude();
+  if (!(normal.Magnitude() > 1e-10 * scale) || scale <= 0) return false;
+  normal.Normalize();
+  if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
+  return true;
+}
 
 FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength) {

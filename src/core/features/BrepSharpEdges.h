@@ -1,6 +1,8 @@
 #pragma once
 // Sharp B-rep edges as constrained segments (thesis §3), and their clipping to the part of
 // the composite boundary that survives the priority composition.
+#include <gp_Vec.hxx>
+
 #include "domain/BrepSolid.h"
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureGraph.h"
@@ -17,6 +19,10 @@ namespace oraclemesh {
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
 FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength);
+
+// Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on
+// that face); false where the surface is singular (apex, pole).
+bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, double u, gp_Vec& normal);
 
 constexpr int kCurvesPerSource = 1000000;
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <unordered_map>
 
 #include "Error.h"
@@ -16,6 +17,7 @@
 #include "domain/TriangleSurface.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
+#include "features/InputAngles.h"
 #include "features/JunctionCurves.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
@@ -251,6 +253,18 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   control.report("features", 0);
   std::unordered_map<int, CurveOrigin> origins;
   const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins);
+  // 60 degrees: the thesis' termination bound for Rule Set T (§3.3).
+  constexpr double kSmallAngleLimitDeg = 60;
+  const std::vector<SmallInputAngle> smallAngles = findSmallInputAngles(oracle, features, kSmallAngleLimitDeg);
+  if (!smallAngles.empty()) {
+    const SmallInputAngle& worst = smallAngles.front();
+    std::ostringstream message;
+    message << smallAngles.size() << " input angle(s) under " << kSmallAngleLimitDeg << " degrees; the smallest is "
+            << worst.angle_deg << " degrees (" << worst.kind << ") of input '" << worst.input << "' at ("
+            << worst.location[0] << ", " << worst.location[1] << ", " << worst.location[2]
+            << "): elements there can stay poor; see report.small_input_angles";
+    warnings.push_back(message.str());
+  }
   clock.finish("features");
   control.checkpoint();
 
@@ -337,6 +351,12 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                         {"junctions", job.junctions},
                         {"polylines", features.polylines.size()},
                         {"protecting_ball_vertices", stats.protecting_balls}};
+  json angles = json::array();
+  for (const SmallInputAngle& a : smallAngles)
+    angles.push_back({{"kind", a.kind}, {"angle_deg", a.angle_deg}, {"location", a.location},
+                      {"input", a.input}, {"edge", a.edge}});
+  report["small_input_angles"] = angles;
+  report["small_input_angle_limit_deg"] = kSmallAngleLimitDeg;
   report["seeds_on_boundary"] = stats.initial_points;
   report["boundary_snap"] = {{"max_move", snap.max_move},
                              {"max_move_relative", diagonal > 0 ? snap.max_move / diagonal : 0},

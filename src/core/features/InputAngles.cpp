@@ -1,0 +1,197 @@
+#include "features/InputAngles.h"
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRep_Tool.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <gp_Cone.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "Error.h"
+#include "domain/BrepSolid.h"
+#include "features/BrepSharpEdges.h"
+
+namespace oraclemesh {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+double degrees(double radians) { return radians * 180 / kPi; }
+Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+// The edge as it is oriented in the face's wire: the face lies on the left of this direction
+// when looking against the outward normal, which tells us which side of the edge is material.
+bool edgeAsUsedByFace(const TopoDS_Face& face, const TopoDS_Edge& edge, TopoDS_Edge& oriented) {
+  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next())
+    if (it.Current().IsSame(edge)) {
+      oriented = TopoDS::Edge(it.Current());
+      return true;
+    }
+  return false;
+}
+
+// Unit vector at curve parameter u, perpendicular to the edge in the face's tangent plane,
+// pointing into the face. False where the face's normal is undefined.
+bool intoFace(const TopoDS_Face& face, const TopoDS_Edge& edge, double u, gp_Vec& direction, gp_Vec& normal) {
+  TopoDS_Edge oriented;
+  if (!edgeAsUsedByFace(face, edge, oriented)) return false;
+  if (!outwardNormalAlongEdge(edge, face, u, normal)) return false;
+  BRepAdaptor_Curve curve(edge);
+  gp_Pnt p;
+  gp_Vec tangent;
+  curve.D1(u, p, tangent);
+  if (tangent.Magnitude() <= 0) return false;
+  // Wires run counter-clockwise around the outward normal, so the face is at normal x tangent;
+  // a REVERSED use runs against the curve's parametrisation.
+  if (oriented.Orientation() == TopAbs_REVERSED) tangent.Reverse();
+  direction = normal.Crossed(tangent);
+  if (direction.Magnitude() <= 1e-12 * tangent.Magnitude()) return false;
+  direction.Normalize();
+  return true;
+}
+
+// Interior (material-side) angle between faces a and b along the edge at parameter u.
+bool interiorDihedral(const TopoDS_Face& a, const TopoDS_Face& b, const TopoDS_Edge& edge, double u, double& angle) {
+  gp_Vec intoA, intoB, normalA, normalB;
+  if (!intoFace(a, edge, u, intoA, normalA) || !intoFace(b, edge, u, intoB, normalB)) return false;
+  const double between = intoA.Angle(intoB);
+  // Convex edge: going into face a leads away from face b's outward side.
+  angle = intoA.Dot(normalB) <= 0 ? between : 2 * kPi - between;
+  return true;
+}
+
+// Whether a point of entry `entry`'s boundary is on the composite boundary (not buried in a
+// higher entry; for a cut, only where it removes material of a lower entry).
+bool onCompositeBoundary(const HierarchicalOracle& oracle, const Point3& p, int entry) {
+  if (oracle.coveredByHigherEntry(p, entry)) return false;
+  const auto& entries = oracle.entries();
+  if (entries[entry].role == Role::Material) return true;
+  for (size_t j = entry + 1; j < entries.size(); ++j)
+    if (entries[j].source->bbox().contains(p) && entries[j].source->inside(p))
+      return entries[j].role == Role::Material;
+  return false;
+}
+
+void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
+                    std::vector<SmallInputAngle>& out) {
+  std::set<std::pair<int, int>> featureEdges;  // (entry, edge)
+  for (const FeaturePolyline& pl : features.polylines)
+    if (pl.source >= 0 && pl.edge >= 0) featureEdges.insert({pl.source, pl.edge});
+  for (const auto& [entry, e] : featureEdges) {
+    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    if (!solid) continue;
+    const std::vector<int>& faces = solid->facesOfEdge(e);
+    if (faces.size() != 2) continue;
+    const TopoDS_Edge& edge = solid->edge(e);
+    double first, last;
+    BRep_Tool::Range(edge, first, last);
+    BRepAdaptor_Curve curve(edge);
+    SmallInputAngle smallest;
+    smallest.angle_deg = 360;
+    constexpr int kSamples = 11;
+    for (int i = 0; i < kSamples; ++i) {
+      const double u = first + (0.0005 + 0.999 * i / (kSamples - 1)) * (last - first);
+      double angle;
+      if (!interiorDihedral(solid->face(faces[0]), solid->face(faces[1]), edge, u, angle)) continue;
+      const Point3 p = toPoint3(curve.Value(u));
+      if (degrees(angle) < smallest.angle_deg && onCompositeBoundary(oracle, p, entry)) {
+        smallest.angle_deg = degrees(angle);
+        smallest.location = p;
+      }
+    }
+    if (smallest.angle_deg < limit) {
+      smallest.kind = "dihedral";
+      smallest.input = solid->name();
+      smallest.edge = e;
+      out.push_back(smallest);
+    }
+  }
+}
+
+void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
+                 std::vector<SmallInputAngle>& out) {
+  // Feature curves meet at bitwise-equal end points (extraction and clipping guarantee it).
+  struct End {
+    Point3 leaving;  // unit direction of the first segment away from the vertex
+    int source;
+  };
+  std::map<Point3, std::vector<End>> ends;
+  for (const FeaturePolyline& pl : features.polylines) {
+    const size_t n = pl.points.size();
+    if (n < 2) continue;
+    const Point3 atStart = pl.points[1] - pl.points[0], atEnd = pl.points[n - 2] - pl.points[n - 1];
+    if (norm(atStart) > 0) ends[pl.points[0]].push_back({(1 / norm(atStart)) * atStart, pl.source});
+    if (norm(atEnd) > 0) ends[pl.points[n - 1]].push_back({(1 / norm(atEnd)) * atEnd, pl.source});
+  }
+  auto inputName = [&](int source) {
+    return source >= 0 ? oracle.entries()[source].source->name() : std::string("junction");
+  };
+  for (const auto& [vertex, list] : ends)
+    for (size_t i = 0; i < list.size(); ++i)
+      for (size_t j = i + 1; j < list.size(); ++j) {
+        const double angle = degrees(std::acos(std::clamp(dot(list[i].leaving, list[j].leaving), -1.0, 1.0)));
+        if (angle >= limit) continue;
+        SmallInputAngle a;
+        a.kind = "curves";
+        a.angle_deg = angle;
+        a.location = vertex;
+        a.input = inputName(list[i].source);
+        if (list[j].source != list[i].source) a.input += " / " + inputName(list[j].source);
+        out.push_back(a);
+      }
+}
+
+void coneApexes(const HierarchicalOracle& oracle, double limit, std::vector<SmallInputAngle>& out) {
+  for (size_t entry = 0; entry < oracle.entries().size(); ++entry) {
+    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    if (!solid) continue;
+    const double tolerance = 1e-7 * solid->bbox().diagonal();
+    for (int f = 0; f < solid->faceCount(); ++f) {
+      const TopoDS_Face& face = solid->face(f);
+      BRepAdaptor_Surface surface(face, Standard_False);
+      if (surface.GetType() != GeomAbs_Cone) continue;
+      const gp_Cone cone = surface.Cone();
+      const Point3 apex = toPoint3(cone.Apex());
+      // Only a cone that reaches its apex has a tip; a frustum has none.
+      bool reachesApex = false;
+      for (TopExp_Explorer it(face, TopAbs_VERTEX); it.More() && !reachesApex; it.Next())
+        reachesApex = distance(toPoint3(BRep_Tool::Pnt(TopoDS::Vertex(it.Current()))), apex) <= tolerance;
+      const double opening = 2 * degrees(std::abs(cone.SemiAngle()));
+      if (!reachesApex || opening >= limit || !onCompositeBoundary(oracle, apex, static_cast<int>(entry))) continue;
+      SmallInputAngle a;
+      a.kind = "cone_apex";
+      a.angle_deg = opening;
+      a.location = apex;
+      a.input = solid->name();
+      out.push_back(a);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
+                                                  double limitDeg) {
+  std::vector<SmallInputAngle> result;
+  try {
+    dihedralAngles(oracle, features, limitDeg, result);
+    curveAngles(oracle, features, limitDeg, result);
+    coneApexes(oracle, limitDeg, result);
+  } catch (const Standard_Failure& failure) {
+    throw Error(std::string("OpenCASCADE failed while measuring the input angles (") + failure.GetMessageString() +
+                "): check the solids with Part > Check geometry");
+  }
+  std::stable_sort(result.begin(), result.end(),
+                   [](const SmallInputAngle& a, const SmallInputAngle& b) { return a.angle_deg < b.angle_deg; });
+  return result;
+}
+
+}  // namespace oraclemesh
