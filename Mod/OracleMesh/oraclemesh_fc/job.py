@@ -6,6 +6,11 @@ every cut sits at the TOP of the priority list and removes material from all inp
 cut act only on the inputs below a given position, list the same object in `Inputs` at that
 position as well: an object that is in both lists is a cut at its place in `Inputs`.
 
+Input kinds: Part/PartDesign features and App::Links go to the core as BREP text; a compound
+of solids (Part::Compound, an imported STEP assembly) becomes one core input per solid, in the
+compound's order, all with the object's material. Mesh features (Mesh::Feature) go as
+triangle surfaces (closed, manifold, consistently oriented; their Placement applied).
+
 Material ids are 1, 2, ... in priority order of the material inputs. Volume groups follow the
 hand-off rule of DESIGN.md: `<FemMaterial.Name>_Volumes` when a FEM material of the analysis
 references the input object, otherwise `<Input.Label>_Volumes`.
@@ -43,8 +48,8 @@ def global_shape(obj):
 
     if not hasattr(obj, "Shape") and not obj.isDerivedFrom("App::Link"):
         raise MeshInputError(
-            "input '%s' (%s) has no shape: link solids (Part/PartDesign objects) only"
-            % (obj.Label, obj.TypeId))
+            "input '%s' (%s) has no shape: link solids (Part/PartDesign objects) or Mesh "
+            "objects only" % (obj.Label, obj.TypeId))
     shape = Part.getShape(obj)  # follows App::Link and applies the object's own placement
     if shape.isNull():
         raise MeshInputError("input '%s' has an empty shape: recompute it or remove it from "
@@ -57,6 +62,66 @@ def global_shape(obj):
         shape = shape.copy()
         shape.Placement = parent.multiply(shape.Placement)
     return shape
+
+
+def is_mesh_feature(obj):
+    """A FreeCAD Mesh object (Mesh::Feature and its Python subclasses): a triangle surface."""
+    return obj.isDerivedFrom("Mesh::Feature")
+
+
+def global_mesh(obj):
+    """(points, triangles) of a Mesh feature in global coordinates.
+
+    FreeCAD applies the feature's own Placement to the points it returns; the placement of
+    any container (App::Part, groups with placement) is added here, as for shapes."""
+    points, triangles = obj.Mesh.Topology
+    if not triangles:
+        raise MeshInputError("input '%s' is an empty mesh: recompute it or remove it from the "
+                             "mesh inputs" % obj.Label)
+    parent = obj.getGlobalPlacement().multiply(obj.Placement.inverse())
+    if not parent.isIdentity():
+        points = [parent.multVec(p) for p in points]
+    return [[p.x, p.y, p.z] for p in points], [list(t) for t in triangles]
+
+
+def input_item(obj):
+    """(job input dict without role/material, kind text) for one input object.
+
+    Mesh features become in-memory triangle surfaces; everything with a shape goes as BREP
+    text, and the core makes one input per solid (file order = priority) of a compound."""
+    if is_mesh_feature(obj):
+        points, triangles = global_mesh(obj)
+        return ({"name": obj.Label, "surface": {"points": points, "triangles": triangles}},
+                "triangle surface (%d triangles)" % len(triangles))
+    shape = global_shape(obj)
+    return {"name": obj.Label, "brep": shape.exportBrepToString()}, shape_kind(shape)
+
+
+def shape_kind(shape):
+    solids = len(shape.Solids)
+    if solids == 1 and shape.ShapeType == "Solid":
+        return "B-rep solid"
+    if solids >= 1:
+        return "B-rep compound (%d solid%s)" % (solids, "" if solids == 1 else "s")
+    shells = len(shape.Shells)
+    if shells:
+        return "B-rep shell%s (made solid if closed)" % ("" if shells == 1 else "s")
+    return "no solid (%s)" % shape.ShapeType
+
+
+def input_kinds(mesh_obj):
+    """'<Label>: <kind>' for every entry of the mesh object, in priority order."""
+    lines = []
+    for obj, role in priority_entries(mesh_obj.Inputs, mesh_obj.Cuts):
+        try:
+            if is_mesh_feature(obj):
+                kind = "triangle surface (%d triangles)" % obj.Mesh.CountFacets
+            else:
+                kind = shape_kind(global_shape(obj))
+        except MeshInputError as e:
+            kind = "not usable: %s" % e
+        lines.append("%s: %s%s" % (obj.Label, kind, " (cut)" if role == "cut" else ""))
+    return lines
 
 
 def priority_entries(inputs, cuts):
@@ -159,7 +224,7 @@ def build_job(mesh_obj):
 
     job_inputs, material_entries, described = [], [], []
     for obj, role in entries:
-        item = {"name": obj.Label, "brep": global_shape(obj).exportBrepToString()}
+        item, _ = input_item(obj)
         if role == "cut":
             item["role"] = "cut"
             described.append((obj, "cut", None))
