@@ -148,9 +148,10 @@ def test_broken_surfaces_give_clear_errors(tmp_path, kind, words):
 
 def surface_job(points, tris, **input_keys):
     job = job_for("unused.stl")
+    # numpy arrays as they are: the package turns them into JSON lists.
     job["inputs"] = [dict({"name": "bone", "material": 1,
-                           "surface": {"points": np.asarray(points).tolist(),
-                                       "triangles": np.asarray(tris).tolist()}}, **input_keys)]
+                           "surface": {"points": np.asarray(points), "triangles": np.asarray(tris)}},
+                          **input_keys)]
     return job
 
 
