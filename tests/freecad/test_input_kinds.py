@@ -12,10 +12,13 @@ def test_mesh_feature_compound_and_step_part_volumes_per_material(run_freecad):
     assert names == ["Bone", "Blocks#1", "Blocks#2",
                      r["imported_label"] + "#1", r["imported_label"] + "#2"]
     assert [kind for _, kind, _ in r["core_inputs"]] == ["triangle surface"] + ["B-rep solid"] * 4
-    assert [m for _, _, m in r["core_inputs"]] == [1, 2, 2, 3, 3]
+    # The blocks' solids have FEM materials of their own, so material ids of their own; the
+    # plates' solids are both named by one FEM material: ids of their own, one group.
+    assert [m for _, _, m in r["core_inputs"]] == [1, 2, 3, 4, 5]
     assert r["mesh"]["groups_cover_all_once"]
-    # Per material: the bone (its Placement applied: otherwise it would overlap the blocks
-    # elsewhere and by a different amount), the blocks minus the bone, the plates. Planar
+    assert sorted(r["volume"]) == sorted(r["volume_expected"])
+    # Per material: the bone (its Placement applied: otherwise it would overlap block A
+    # elsewhere and by a different amount), block A minus the bone, block B, the plates. Planar
     # faces are met exactly; the bone is a polyhedron meshed to facet_distance 0.05: 0.5 %.
     for group, expected in r["volume_expected"].items():
         got = r["volume"][group]

@@ -8,7 +8,9 @@ position as well: an object that is in both lists is a cut at its place in `Inpu
 
 Input kinds: Part/PartDesign features and App::Links go to the core as BREP text; a compound
 of solids (Part::Compound, an imported STEP assembly) becomes one core input per solid, in the
-compound's order, all with the object's material. Mesh features (Mesh::Feature) go as
+compound's order, all with the object's material, unless FEM materials reference single
+solids of it ('Solid2'): then each solid gets its own material id and joins the group of the
+FEM material that references it (or the object as a whole). Mesh features (Mesh::Feature) go as
 triangle surfaces (closed, manifold, consistently oriented; their Placement applied).
 
 Material ids are 1, 2, ... in priority order of the material inputs. Volume groups follow the
@@ -97,6 +99,10 @@ def input_item(obj):
     return {"name": obj.Label, "brep": shape.exportBrepToString()}, shape_kind(shape)
 
 
+def solid_count(obj):
+    return len(global_shape(obj).Solids)
+
+
 def shape_kind(shape):
     solids = len(shape.Solids)
     if solids == 1 and shape.ShapeType == "Solid":
@@ -149,8 +155,35 @@ def fem_materials(mesh_obj):
             or femutils.is_of_type(o, "Fem::MaterialReinforced")]
 
 
+def _subnames(ref):
+    subs = ref[1] if len(ref) > 1 else ()
+    return (subs,) if isinstance(subs, str) else tuple(subs)
+
+
+def references(material, obj, solid=None):
+    """Does the FEM material reference obj (solid=None), or solid number `solid` of obj?
+
+    A reference to the whole object (no sub-element) covers every solid of it; a reference
+    to 'SolidK' covers that solid only, as FreeCAD's own CalculiX writer reads it."""
+    for ref in material.References:
+        if ref[0] != obj:
+            continue
+        subs = [s for s in _subnames(ref) if s]
+        if solid is None or not subs or "Solid%d" % solid in subs:
+            return True
+    return False
+
+
+def solid_references(materials, obj):
+    """Does any FEM material name single solids ('SolidK') of obj?"""
+    return any(sub.startswith("Solid") for m in materials for ref in m.References
+               if ref[0] == obj for sub in _subnames(ref))
+
+
 def volume_groups(material_entries, materials):
-    """[(group_name, [material ids])] for the material inputs [(obj, material_id)].
+    """[(group_name, [material ids])] for the material inputs [(obj, material_id)] or
+    [(obj, material_id, solid number)] (one entry per solid of a compound whose solids FEM
+    materials reference one by one).
 
     FreeCAD 0.20's CalculiX writer (femmesh/meshtools.get_femelement_sets_from_group_data)
     takes, for each FEM material, the first Volume group whose name starts with
@@ -162,12 +195,15 @@ def volume_groups(material_entries, materials):
     by_name = {}
     order = []
     fallback = [m for m in materials if not m.References]
-    for obj, mid in material_entries:
-        owners = [m for m in materials if any(ref[0] == obj for ref in m.References)]
+    for entry in material_entries:
+        obj, mid = entry[0], entry[1]
+        solid = entry[2] if len(entry) > 2 else None
+        what = obj.Label if solid is None else "%s (Solid%d)" % (obj.Label, solid)
+        owners = [m for m in materials if references(m, obj, solid)]
         if len(owners) > 1:
             FreeCAD.Console.PrintWarning(
                 "OracleMesh: input '%s' is referenced by several FEM materials (%s); using '%s'\n"
-                % (obj.Label, ", ".join(m.Label for m in owners), owners[0].Label))
+                % (what, ", ".join(m.Label for m in owners), owners[0].Label))
         if owners:
             name = owners[0].Name + "_Volumes"
         elif fallback:
@@ -222,12 +258,22 @@ def build_job(mesh_obj):
             "the solids to mesh from Cuts" % (mesh_obj.Label,
                                              ", ".join(o.Label for o, _ in entries)))
 
+    materials = fem_materials(mesh_obj)
     job_inputs, material_entries, described = [], [], []
     for obj, role in entries:
         item, _ = input_item(obj)
         if role == "cut":
             item["role"] = "cut"
             described.append((obj, "cut", None))
+        elif "brep" in item and solid_references(materials, obj) and solid_count(obj) > 1:
+            # FEM materials name single solids of this compound (an imported assembly):
+            # each solid gets its own material id, so each can join its material's group.
+            mids = []
+            for solid in range(1, solid_count(obj) + 1):
+                mids.append(len(material_entries) + 1)
+                material_entries.append((obj, mids[-1], solid))
+                described.append((obj, "material", mids[-1]))
+            item["materials"] = mids
         else:
             mid = len(material_entries) + 1
             item["material"] = mid
@@ -245,17 +291,20 @@ def build_job(mesh_obj):
             default[key] = value
 
     per_material = {}
-    by_key = {}
-    for obj, mid in material_entries:
-        by_key[obj.Name] = mid
-        by_key.setdefault(obj.Label, mid)
+    # Name (or else Label) -> material ids of the input (one per solid when split).
+    by_name, by_label = {}, {}
+    for entry in material_entries:
+        by_name.setdefault(entry[0].Name, []).append(entry[1])
+        by_label.setdefault(entry[0].Label, []).append(entry[1])
+    by_key = dict(by_label, **by_name)
     for key, text in dict(mesh_obj.InputSizes).items():
         if key not in by_key:
             raise MeshInputError(
                 "InputSizes names '%s', which is not a material input of '%s': use the Name "
                 "or Label of an object in Inputs" % (key, mesh_obj.Label))
-        per_material.setdefault(str(by_key[key]), {}).update(
-            parse_size_entry(text, "InputSizes['%s']" % key))
+        sizes = parse_size_entry(text, "InputSizes['%s']" % key)
+        for mid in by_key[key]:
+            per_material.setdefault(str(mid), {}).update(sizes)
 
     job = {
         "inputs": job_inputs,
@@ -275,5 +324,5 @@ def build_job(mesh_obj):
         if mesh_obj.OutputReport:
             job["output"]["report"] = mesh_obj.OutputReport
 
-    groups = volume_groups(material_entries, fem_materials(mesh_obj))
+    groups = volume_groups(material_entries, materials)
     return job, groups, described

@@ -1,7 +1,8 @@
 """Input kinds from FreeCAD objects: a Mesh feature (moved by its Placement), a Part compound
-of two boxes and an imported STEP part holding two solids, meshed together. Returns the mesh
-object's InputKinds, the core's per-solid input names and the tet10 volume of each volume
-group next to the volumes the composition must give."""
+of two boxes whose solids have different FEM materials, and an imported STEP part holding two
+solids of one material, meshed together. Returns the mesh object's InputKinds, the core's
+per-solid input names and the tet10 volume of each volume group next to the volumes the
+composition must give."""
 import json
 import os
 import sys
@@ -34,8 +35,14 @@ def check(params):
     doc.recompute()
 
     analysis, _ = h.analysis_with_solver(doc)
-    materials = {name: h.material(doc, analysis, name, 1000, 0.3, [obj])
-                 for name, obj in (("MatBone", bone), ("MatBlocks", blocks), ("MatPlates", imported))}
+    # FEM materials as a user sets them: the whole Mesh object, single solids of the Part
+    # compound (each block its own material), both solids of the STEP part by name.
+    refs = {"MatBone": [(bone, "")], "MatBlockA": [(blocks, "Solid1")], "MatBlockB": [(blocks, "Solid2")],
+            "MatPlates": [(imported, ("Solid1", "Solid2"))]}
+    materials = {}
+    for name, references in refs.items():
+        materials[name] = h.material(doc, analysis, name, 1000, 0.3, [])
+        materials[name].References = references
     mesh = makeMesh(doc, [bone, blocks, imported], analysis=analysis, cell_size=3.0,
                     facet_distance=0.05, element_order=2, **params.get("mesh", {}))
     facts = h.recompute_mesh(doc, mesh)
@@ -48,7 +55,8 @@ def check(params):
         "core_inputs": [(e["name"], e["kind"], e["material"]) for e in report["inputs"]],
         "volume": h.group_volumes(mesh.FemMesh),
         "volume_expected": {materials["MatBone"].Name + "_Volumes": bone_volume,
-                            materials["MatBlocks"].Name + "_Volumes": 8000 - bone_volume / 3,
+                            materials["MatBlockA"].Name + "_Volumes": 4000 - bone_volume / 3,
+                            materials["MatBlockB"].Name + "_Volumes": 4000,
                             materials["MatPlates"].Name + "_Volumes": 2 * 40 * 8 * 4},
     }
 
