@@ -7,6 +7,8 @@ def test_mesh_feature_compound_and_step_part_volumes_per_material(run_freecad):
     assert kinds[0].startswith("Bone: triangle surface (") and kinds[0].endswith(" triangles)")
     assert kinds[1] == "Blocks: B-rep compound (2 solids)"
     assert kinds[2] == "%s: B-rep compound (2 solids)" % r["imported_label"]
+    # What the GUI command accepts from the selection: not the plain face.
+    assert r["can_be_input"] == [True, True, True, False]
     # The core splits each compound into one input per solid, in compound order.
     names = [name for name, _, _ in r["core_inputs"]]
     assert names == ["Bone", "Blocks#1", "Blocks#2",

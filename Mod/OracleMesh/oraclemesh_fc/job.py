@@ -115,6 +115,14 @@ def shape_kind(shape):
     return "no solid (%s)" % shape.ShapeType
 
 
+def can_be_input(obj):
+    """Could obj be a mesh input: a shape with solids or shells, or a non-empty Mesh object."""
+    if is_mesh_feature(obj):
+        return obj.Mesh.CountFacets > 0
+    shape = getattr(obj, "Shape", None)
+    return shape is not None and not shape.isNull() and bool(shape.Solids or shape.Shells)
+
+
 def input_kinds(mesh_obj):
     """'<Label>: <kind>' for every entry of the mesh object, in priority order."""
     lines = []

@@ -16,6 +16,7 @@ def check(params):
     import Mesh
     import Part
     from oraclemesh_fc import makeMesh
+    from oraclemesh_fc.job import can_be_input
 
     doc = FreeCAD.newDocument("InputKinds")
     # A "scanned bone": a finely tessellated cylinder, radius 4, height 30, as a Mesh feature
@@ -47,10 +48,13 @@ def check(params):
                     facet_distance=0.05, element_order=2, **params.get("mesh", {}))
     facts = h.recompute_mesh(doc, mesh)
     report = json.loads(mesh.Report)
+    sheet = doc.addObject("Part::Plane", "Sheet")  # a face: nothing to mesh
+    doc.recompute()
     bone_volume = bone.Mesh.Volume  # the polyhedron, a prism: a third of it is inside BlockA
     return {
         "mesh": facts,
         "input_kinds": list(mesh.InputKinds),
+        "can_be_input": [can_be_input(o) for o in (bone, blocks, imported, sheet)],
         "imported_label": imported.Label,
         "core_inputs": [(e["name"], e["kind"], e["material"]) for e in report["inputs"]],
         "volume": h.group_volumes(mesh.FemMesh),
