@@ -37,8 +37,8 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
-#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
@@ -209,7 +209,7 @@ SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
       const int64_t freeEdges = countFreeEdges(solid);
       if (freeEdges > 0)
         throw InputError(what + " has a solid whose boundary is open (" + plural(freeEdges, "free edge") +
-                         (items.size() > 1 ? ", solid " + std::to_string(i + 1) + " of " + std::to_string(items.size()) +
+                         (items.size() > 1 ? ", item " + std::to_string(i + 1) + " of " + std::to_string(items.size()) +
                                                  " near " + near(solid)
                                            : "") +
                          "): repair the solid (Part > Check geometry, Part > Refine shape) or rebuild it from a "
