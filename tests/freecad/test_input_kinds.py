@@ -4,6 +4,7 @@
 def test_mesh_feature_compound_and_step_part_volumes_per_material(run_freecad):
     r = run_freecad("input_kinds.py", timeout=300)
     kinds = r["input_kinds"]
+    assert r["input_kinds_before_recompute"] == kinds  # shown as soon as the inputs are set
     assert kinds[0].startswith("Bone: triangle surface (") and kinds[0].endswith(" triangles)")
     assert kinds[1] == "Blocks: B-rep compound (2 solids)"
     assert kinds[2] == "%s: B-rep compound (2 solids)" % r["imported_label"]

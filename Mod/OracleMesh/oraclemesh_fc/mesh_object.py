@@ -92,6 +92,14 @@ class OracleMeshProxy:
     def onDocumentRestored(self, obj):
         self.add_properties(obj)
 
+    def onChanged(self, obj, prop):
+        # The user sees at once what a newly linked object is to the mesher. Not while a
+        # document loads: the saved list is already right and linked shapes may not be yet.
+        if prop in ("Inputs", "Cuts") and hasattr(obj, "InputKinds") and "Restore" not in obj.State:
+            kinds = input_kinds(obj)
+            if list(obj.InputKinds) != kinds:
+                obj.InputKinds = kinds
+
     def execute(self, obj):
         obj.InputKinds = input_kinds(obj)
         try:
@@ -192,7 +200,6 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
 
     obj.Inputs = list(inputs)
     obj.Cuts = list(cuts)
-    obj.InputKinds = input_kinds(obj)
     for key, prop in OPTION_PROPERTIES.items():
         if key in job_options:
             value = job_options[key]

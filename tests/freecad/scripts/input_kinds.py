@@ -46,6 +46,7 @@ def check(params):
         materials[name].References = references
     mesh = makeMesh(doc, [bone, blocks, imported], analysis=analysis, cell_size=3.0,
                     facet_distance=0.05, element_order=2, **params.get("mesh", {}))
+    kinds_before_recompute = list(mesh.InputKinds)
     facts = h.recompute_mesh(doc, mesh)
     report = json.loads(mesh.Report)
     sheet = doc.addObject("Part::Plane", "Sheet")  # a face: nothing to mesh
@@ -54,6 +55,7 @@ def check(params):
     return {
         "mesh": facts,
         "input_kinds": list(mesh.InputKinds),
+        "input_kinds_before_recompute": kinds_before_recompute,
         "can_be_input": [can_be_input(o) for o in (bone, blocks, imported, sheet)],
         "imported_label": imported.Label,
         "core_inputs": [(e["name"], e["kind"], e["material"]) for e in report["inputs"]],
