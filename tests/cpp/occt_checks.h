@@ -1,14 +1,18 @@
 #pragma once
 // OpenCASCADE-based measurements shared by the C++ tests: where the shared CAD models are,
-// and exact distances to B-rep boundaries.
+// exact distances to B-rep boundaries, volumes, BREP text.
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <GProp_GProps.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <sstream>
 #include <string>
 
 #include "Geometry.h"
@@ -35,6 +39,19 @@ inline double distanceToShape(const Point3& p, const TopoDS_Shape& shape) {
   BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), target);
   EXPECT_TRUE(dist.IsDone());
   return dist.Value();
+}
+
+// What FreeCAD's Shape.exportBrepToString() gives: the job's "brep" input.
+inline std::string brepText(const TopoDS_Shape& shape) {
+  std::ostringstream out;
+  BRepTools::Write(shape, out);
+  return out.str();
+}
+
+inline double volumeOf(const TopoDS_Shape& shape) {
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(shape, props);
+  return props.Mass();
 }
 
 }  // namespace oraclemesh::test

@@ -25,6 +25,7 @@
 
 #include "job/Pipeline.h"
 #include "mesh_checks.h"
+#include "occt_checks.h"
 
 namespace oraclemesh {
 namespace {
@@ -35,17 +36,8 @@ struct DemoAssembly {
   TopoDS_Shape cut = BRepPrimAPI_MakeBox(gp_Pnt(80, 40, -5), 30, 30, 20).Shape();
 };
 
-std::string brepText(const TopoDS_Shape& shape) {
-  std::ostringstream out;
-  BRepTools::Write(shape, out);
-  return out.str();
-}
-
-double volumeOf(const TopoDS_Shape& shape) {
-  GProp_GProps props;
-  BRepGProp::VolumeProperties(shape, props);
-  return props.Mass();
-}
+using test::brepText;
+using test::volumeOf;
 
 nlohmann::json demoJob(int order) {
   const DemoAssembly a;

@@ -11,11 +11,16 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
+#include <Interface_Static.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TopLoc_Location.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Trsf.hxx>
 #include <gp_Pln.hxx>
 
 #include <chrono>
@@ -269,6 +274,140 @@ TEST(BrepSolid, SeveralSolidsFormOneInput) {
   EXPECT_TRUE(solid.inside({5.5, 0.5, 0.5}));
   EXPECT_FALSE(solid.inside({3, 0.5, 0.5}));
   EXPECT_EQ(solid.faceCount(), 12);
+}
+
+TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
+  return compound;
+}
+
+// Every loaded solid answers inside() like OpenCASCADE's classifier on the original solid,
+// except within 1e-6 of the diagonal of its boundary.
+void expectSameInsideAs(const BrepSolid& loaded, const TopoDS_Shape& original, unsigned seed) {
+  const double diagonal = loaded.bbox().diagonal();
+  BRepClass3d_SolidClassifier classifier(original);
+  int inside = 0;
+  for (const Point3& p : randomPointsAround(loaded.bbox(), 1000, seed)) {
+    classifier.Perform(gp(p), 1e-9 * diagonal);
+    const bool reference = classifier.State() == TopAbs_IN;
+    if (loaded.inside(p) != reference) EXPECT_LT(distanceToShape(p, original), 1e-6 * diagonal) << loaded.name();
+    inside += reference;
+  }
+  EXPECT_GT(inside, 0) << loaded.name();
+}
+
+TEST(BrepSolid, IgesSolidsMatchTheOriginals) {
+  // IGES in both of OpenCASCADE's write modes: trimmed faces (mode 0, what most CAD tools
+  // write; the reader gets loose faces to sew) and B-rep solids (mode 1, MSBO entities).
+  const TopoDS_Shape originals[2] = {box(), BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(30, 2, 3), gp_Dir(0, 0, 1)), 5, 20).Shape()};
+  for (int mode : {0, 1}) {
+    IGESControl_Controller::Init();
+    IGESControl_Writer writer("MM", mode);
+    for (const TopoDS_Shape& s : originals) ASSERT_TRUE(writer.AddShape(s));
+    writer.ComputeModel();
+    const auto path = std::filesystem::temp_directory_path() / ("oraclemesh_box_cylinder_" + std::to_string(mode) + ".igs");
+    ASSERT_TRUE(writer.Write(path.string().c_str()));
+
+    const BrepSolid::Loaded loaded = BrepSolid::loadFile(path.string(), "iges", BrepSolid::Grouping::Separate);
+    ASSERT_EQ(loaded.solids.size(), 2u) << "mode " << mode;
+    EXPECT_TRUE(loaded.warnings.empty());
+    EXPECT_EQ(loaded.solids[0]->name(), "iges#1");
+    EXPECT_EQ(loaded.solids[1]->name(), "iges#2");
+    EXPECT_NEAR(loaded.solids[0]->volume(), 6000, 1e-6 * 6000) << "mode " << mode;
+    EXPECT_NEAR(loaded.solids[1]->volume(), M_PI * 25 * 20, 1e-6 * M_PI * 25 * 20) << "mode " << mode;
+    for (int i = 0; i < 2; ++i) expectSameInsideAs(*loaded.solids[i], originals[i], 10 + i);
+
+    const BrepSolid::Loaded together = BrepSolid::loadFile(path.string(), "iges", BrepSolid::Grouping::Together);
+    ASSERT_EQ(together.solids.size(), 1u);
+    EXPECT_EQ(together.solids[0]->name(), "iges");
+    EXPECT_NEAR(together.solids[0]->volume(), 6000 + M_PI * 25 * 20, 1e-6 * 7571);
+  }
+}
+
+TEST(BrepSolid, SeveralSolidsBecomeOneInputEachInFileOrder) {
+  const TopoDS_Shape boxes[3] = {BRepPrimAPI_MakeBox(gp_Pnt(4, 0, 0), 1, 1, 1).Shape(),
+                                 BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 2, 1, 1).Shape(),
+                                 BRepPrimAPI_MakeBox(gp_Pnt(8, 0, 0), 3, 1, 1).Shape()};
+  // Nested compounds (an assembly of sub-assemblies) keep their order too.
+  const TopoDS_Compound file = compoundOf({boxes[0], compoundOf({boxes[1], boxes[2]})});
+  std::ostringstream text;
+  BRepTools::Write(file, text);
+  const BrepSolid::Loaded loaded = BrepSolid::loadBrepText(text.str(), "asm", BrepSolid::Grouping::Separate);
+  ASSERT_EQ(loaded.solids.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(loaded.solids[i]->name(), "asm#" + std::to_string(i + 1));
+    EXPECT_NEAR(loaded.solids[i]->volume(), i + 1, 1e-12);
+  }
+  EXPECT_TRUE(loaded.solids[0]->inside({4.5, 0.5, 0.5}));
+  EXPECT_FALSE(loaded.solids[0]->inside({1, 0.5, 0.5}));
+  const BrepSolid::Loaded one = BrepSolid::loadBrepText(text.str(), "asm", BrepSolid::Grouping::Together);
+  ASSERT_EQ(one.solids.size(), 1u);
+  EXPECT_EQ(one.solids[0]->name(), "asm");
+  EXPECT_NEAR(one.solids[0]->volume(), 6, 1e-12);
+  // A single solid keeps the plain name.
+  EXPECT_EQ(BrepSolid::load(boxes[0], "pin", BrepSolid::Grouping::Separate).solids.at(0)->name(), "pin");
+}
+
+TEST(BrepSolid, PresseAsmLoadsItsSolidsAndSkipsTheOpenShells) {
+  const std::string path = cadDir() + "/presse_asm.step";
+  const BrepSolid::Loaded loaded = BrepSolid::loadFile(path, "presse", BrepSolid::Grouping::Separate);
+  EXPECT_EQ(loaded.solids.size(), 16u);
+  for (size_t i = 0; i < loaded.solids.size(); ++i) {
+    EXPECT_EQ(loaded.solids[i]->name(), "presse#" + std::to_string(i + 1));
+    EXPECT_GT(loaded.solids[i]->volume(), 0);
+  }
+  // 16 solids and 14 open shells (the cylinder-cylinder-plane sheets of threads: 13 of
+  // three faces, one of two), 30 items in all.
+  ASSERT_EQ(loaded.warnings.size(), 14u);
+  int threeFaces = 0;
+  for (const std::string& w : loaded.warnings) {
+    EXPECT_NE(w.find("input 'presse' (file '" + path + "')"), std::string::npos) << w;
+    EXPECT_NE(w.find("open shell (item"), std::string::npos) << w;
+    EXPECT_NE(w.find(" of 30, "), std::string::npos) << w;
+    EXPECT_NE(w.find("4 free edges"), std::string::npos) << w;
+    EXPECT_NE(w.find("left out"), std::string::npos) << w;
+    threeFaces += w.find("3 faces") != std::string::npos;
+  }
+  EXPECT_EQ(threeFaces, 13);
+  EXPECT_NE(loaded.warnings[0].find("item 2 of 30, 3 faces, 4 free edges, near (100, -5, 0)"), std::string::npos);
+  // As one input the solids are the same; fromFile, which cannot warn, refuses the shells.
+  const BrepSolid::Loaded together = BrepSolid::loadFile(path, "presse", BrepSolid::Grouping::Together);
+  ASSERT_EQ(together.solids.size(), 1u);
+  double sum = 0;
+  for (const auto& s : loaded.solids) sum += s->volume();
+  EXPECT_NEAR(together.solids[0]->volume(), sum, 1e-6 * sum);  // GProp integrates numerically
+  EXPECT_EQ(together.warnings.size(), 14u);
+  const std::string message = errorOf([&] { BrepSolid::fromFile(path, "presse"); });
+  EXPECT_NE(message.find("pieces that bound no volume"), std::string::npos) << message;
+  EXPECT_NE(message.find("presse_asm.step"), std::string::npos) << message;
+}
+
+TEST(BrepSolid, OnlyOpenShellsAreAnErrorEvenWhenSplitting) {
+  BRepBuilderAPI_Sewing sewing;
+  int face = 0;
+  for (TopExp_Explorer ex(BRepPrimAPI_MakeBox(10, 10, 10).Shape(), TopAbs_FACE); ex.More(); ex.Next())
+    if (face++ != 0) sewing.Add(ex.Current());
+  sewing.Perform();
+  const TopoDS_Shape open = sewing.SewedShape();
+  gp_Trsf shift;
+  shift.SetTranslation(gp_Vec(20, 0, 0));
+  const TopoDS_Shape moved = open.Moved(TopLoc_Location(shift));
+  std::string message = errorOf([&] { BrepSolid::load(compoundOf({open, moved}), "sheets", BrepSolid::Grouping::Separate); });
+  EXPECT_NE(message.find("input 'sheets' holds only open shells (2 shells with 8 free edges"), std::string::npos)
+      << message;
+  message = errorOf([&] { BrepSolid::load(open, "lid missing", BrepSolid::Grouping::Separate, "/x/lid.step"); });
+  EXPECT_NE(message.find("input 'lid missing' (file '/x/lid.step') is an open shell with 4 free edges"), std::string::npos)
+      << message;
+  // Beside a solid, the same shell is left out with a warning naming it.
+  const BrepSolid::Loaded mixed = BrepSolid::load(compoundOf({box(), moved}), "mixed", BrepSolid::Grouping::Separate);
+  ASSERT_EQ(mixed.solids.size(), 1u);
+  EXPECT_EQ(mixed.solids[0]->name(), "mixed");
+  ASSERT_EQ(mixed.warnings.size(), 1u);
+  EXPECT_NE(mixed.warnings[0].find("open shell (item 2 of 2, 5 faces, 4 free edges, near (25, 5, 5))"), std::string::npos)
+      << mixed.warnings[0];
 }
 
 TEST(BrepSolid, CubeFiletIsRejectedAsTheOpenShellItIs) {

@@ -119,6 +119,30 @@ def displacements(result):
     return {n: (v.x, v.y, v.z) for n, v in zip(result.NodeNumbers, result.DisplacementVectors)}
 
 
+def mesh_arrays(fm):
+    """(points, tets, element ids, node id -> row) of a FemMesh, rows in node id order."""
+    import numpy as np
+    nodes = fm.Nodes  # a new dict on every access: fetch once
+    ids = sorted(nodes)
+    index = {n: i for i, n in enumerate(ids)}
+    points = np.array([tuple(nodes[n]) for n in ids])
+    vols = sorted(fm.Volumes)
+    tets = np.array([[index[n] for n in fm.getElementNodes(e)] for e in vols])
+    return points, tets, vols, index
+
+
+def group_volumes(fm):
+    """{volume group name: exact tet10 volume of its elements}."""
+    import numpy as np
+    sys.path.insert(0, os.path.dirname(HERE))
+    from tet_geometry import tet10_volumes
+    points, tets, vols, _ = mesh_arrays(fm)
+    # FreeCAD's order is negatively oriented: sizes are the absolute values.
+    vol = dict(zip(vols, np.abs(tet10_volumes(points, tets))))
+    return {fm.getGroupName(g): float(sum(vol[e] for e in fm.getGroupElements(g)))
+            for g in fm.Groups if fm.getGroupElementType(g) == "Volume"}
+
+
 def mesh_facts(mesh_obj):
     """Counts, groups and FreeCAD-orientation facts of a FEM mesh object."""
     import numpy as np

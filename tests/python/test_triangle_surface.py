@@ -1,5 +1,6 @@
-"""Triangle-surface inputs (STL ASCII and binary, OFF): meshed like any other input, and
-broken files give errors that name the file and the defect."""
+"""Triangle-surface inputs (STL ASCII and binary, OFF, and triangles in the job itself, as
+FreeCAD Mesh objects send them): meshed like any other input, and broken surfaces give errors
+that name the input, the file and the defect."""
 import math
 import struct
 
@@ -90,7 +91,7 @@ def test_reversed_orientation_is_fixed_silently(tmp_path):
     assert result.report["inputs"][0]["source_volume"] > 0
 
 
-def test_off_with_a_flipped_triangle_is_oriented(tmp_path):
+def test_off_with_a_flipped_triangle_names_it(tmp_path):
     points, tris = icosphere(subdivisions=2)
     tris = tris.copy()
     tris[7] = tris[7][::-1]
@@ -99,8 +100,11 @@ def test_off_with_a_flipped_triangle_is_oriented(tmp_path):
         f.write("OFF\n%d %d 0\n" % (len(points), len(tris)))
         f.writelines("%.17g %.17g %.17g\n" % tuple(p) for p in points)
         f.writelines("3 %d %d %d\n" % tuple(t) for t in tris)
-    result = oraclemesh.run(job_for(path))
-    assert abs(result.report["inputs"][0]["source_volume"] - polyhedron_volume(*icosphere(subdivisions=2))) < 1e-9
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job_for(path))
+    message = str(err.value)
+    assert "1 triangle oriented against its neighbours" in message
+    assert "triangle 8 of the file (counting from 1)" in message and "reverse" in message
 
 
 def broken(tmp_path, kind):
@@ -111,6 +115,10 @@ def broken(tmp_path, kind):
     elif kind == "self_intersecting":
         other, otris = icosphere(subdivisions=2, center=(3.0, 0, 0))
         write_ascii_stl(path, np.vstack([points, other]), np.vstack([tris, otris + len(points)]))
+    elif kind == "flipped":
+        flipped = tris.copy()
+        flipped[[3, 40]] = flipped[[3, 40], ::-1]
+        write_binary_stl(path, points, flipped)
     elif kind == "empty":
         path.write_bytes(b"")
     elif kind == "truncated":
@@ -123,6 +131,8 @@ def broken(tmp_path, kind):
 @pytest.mark.parametrize("kind, words", [
     ("hole", ["not closed", "border edges"]),
     ("self_intersecting", ["intersects itself"]),
+    ("flipped", ["2 triangles oriented against their neighbours", "first: triangle 4 of the file",
+                 "reverse the corner order"]),
     ("empty", ["empty"]),
     ("truncated", ["truncated"]),
 ])
@@ -134,3 +144,72 @@ def test_broken_surfaces_give_clear_errors(tmp_path, kind, words):
     assert "bone" in message and str(path) in message
     for word in words:
         assert word in message
+
+
+def surface_job(points, tris, **input_keys):
+    job = job_for("unused.stl")
+    # numpy arrays as they are: the package turns them into JSON lists.
+    job["inputs"] = [dict({"name": "bone", "material": 1,
+                           "surface": {"points": np.asarray(points), "triangles": np.asarray(tris)}},
+                          **input_keys)]
+    return job
+
+
+def test_surface_in_the_job_meshes_with_the_polyhedron_volume():
+    points, tris = icosphere(center=(1.0, 2.0, 3.0))
+    # Given inside out: turned round silently, like a file.
+    job = surface_job(points, tris[:, ::-1])
+    job["criteria"]["default"]["facet_distance"] = 0.02
+    job["element_order"] = 2
+    result = oraclemesh.run(job)
+    exact = polyhedron_volume(points, tris)
+    entry = result.report["inputs"][0]
+    assert entry["kind"] == "triangle surface" and entry["name"] == "bone"
+    assert abs(entry["source_volume"] - exact) < 1e-9 * exact
+    assert abs(tet10_volume(result.points, result.tets) - exact) < 0.005 * exact
+    # Where the surface is: boundary nodes on the sphere about (1, 2, 3).
+    r = np.linalg.norm(result.points[np.unique(result.boundary_triangles)] - (1, 2, 3), axis=1)
+    assert r.max() <= 5.0 + 1e-9 and r.min() > 5.0 * math.cos(math.radians(10))
+
+
+@pytest.mark.parametrize("defect, words", [
+    ("hole", ["(triangle surface) is not closed", "border edges"]),
+    ("flipped", ["1 triangle oriented against its neighbours", "triangles[7]", "reverse"]),
+    ("bad_index", ["triangles[5] refers to point 9999", "indices count from 0"]),
+    ("not_a_list", ["'surface' must be"]),
+    ("empty", ["is empty"]),
+])
+def test_broken_surface_in_the_job_names_the_defect(defect, words):
+    points, tris = icosphere(subdivisions=2)
+    tris = tris.copy()
+    if defect == "hole":
+        tris = tris[1:]
+    elif defect == "flipped":
+        tris[7] = tris[7][::-1]
+    elif defect == "bad_index":
+        tris[5][1] = 9999
+    elif defect == "empty":
+        tris = tris[:0]
+    job = surface_job(points, tris)
+    if defect == "not_a_list":
+        job["inputs"][0]["surface"] = {"points": 3, "triangles": []}
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job)
+    message = str(err.value)
+    assert "input 'bone'" in message
+    for word in words:
+        assert word in message
+
+
+@pytest.mark.parametrize("keys, words", [
+    ({"solids": "together"}, ["'solids' applies to STEP, IGES and BREP inputs only"]),
+    ({"materials": [1, 2]}, ["'materials' (one per solid) needs"]),
+])
+def test_solid_keys_are_refused_on_surfaces(keys, words):
+    points, tris = icosphere(subdivisions=1)
+    job = surface_job(points, tris, **keys)
+    job["inputs"][0].pop("material")
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job)
+    for word in words:
+        assert word in str(err.value)

@@ -15,12 +15,13 @@ def active_analysis():
 
 
 def selected_solids():
-    """Selected objects with solids, in selection order (= priority, highest first)."""
+    """Selected solids, compounds, shells and Mesh objects, in selection order (= priority,
+    highest first)."""
+    from .job import can_be_input
     objs = []
     for sel in FreeCADGui.Selection.getSelectionEx("", 0):
         obj = sel.Object
-        shape = getattr(obj, "Shape", None)
-        if shape is not None and not shape.isNull() and shape.Solids and obj not in objs:
+        if can_be_input(obj) and obj not in objs:
             objs.append(obj)
     return objs
 
@@ -47,7 +48,7 @@ class CommandMeshSelection:
         if not inputs:
             QtGui.QMessageBox.warning(
                 FreeCADGui.getMainWindow(), "OracleMesh",
-                "Select one or more solids, highest priority first.")
+                "Select one or more solids (or compounds, Mesh objects), highest priority first.")
             return
         analysis = active_analysis()
         doc.openTransaction("OracleMesh mesh")

@@ -6,6 +6,13 @@ every cut sits at the TOP of the priority list and removes material from all inp
 cut act only on the inputs below a given position, list the same object in `Inputs` at that
 position as well: an object that is in both lists is a cut at its place in `Inputs`.
 
+Input kinds: Part/PartDesign features and App::Links go to the core as BREP text; a compound
+of solids (Part::Compound, an imported STEP assembly) becomes one core input per solid, in the
+compound's order, all with the object's material, unless FEM materials reference single
+solids of it ('Solid2'): then each solid gets its own material id and joins the group of the
+FEM material that references it (or the object as a whole). Mesh features (Mesh::Feature) go as
+triangle surfaces (closed, manifold, consistently oriented; their Placement applied).
+
 Material ids are 1, 2, ... in priority order of the material inputs. Volume groups follow the
 hand-off rule of DESIGN.md: `<FemMaterial.Name>_Volumes` when a FEM material of the analysis
 references the input object, otherwise `<Input.Label>_Volumes`.
@@ -43,8 +50,8 @@ def global_shape(obj):
 
     if not hasattr(obj, "Shape") and not obj.isDerivedFrom("App::Link"):
         raise MeshInputError(
-            "input '%s' (%s) has no shape: link solids (Part/PartDesign objects) only"
-            % (obj.Label, obj.TypeId))
+            "input '%s' (%s) has no shape: link solids (Part/PartDesign objects) or Mesh "
+            "objects only" % (obj.Label, obj.TypeId))
     shape = Part.getShape(obj)  # follows App::Link and applies the object's own placement
     if shape.isNull():
         raise MeshInputError("input '%s' has an empty shape: recompute it or remove it from "
@@ -57,6 +64,78 @@ def global_shape(obj):
         shape = shape.copy()
         shape.Placement = parent.multiply(shape.Placement)
     return shape
+
+
+def is_mesh_feature(obj):
+    """A FreeCAD Mesh object (Mesh::Feature and its Python subclasses): a triangle surface."""
+    return obj.isDerivedFrom("Mesh::Feature")
+
+
+def global_mesh(obj):
+    """(points, triangles) of a Mesh feature in global coordinates.
+
+    FreeCAD applies the feature's own Placement to the points it returns; the placement of
+    any container (App::Part, groups with placement) is added here, as for shapes."""
+    points, triangles = obj.Mesh.Topology
+    if not triangles:
+        raise MeshInputError("input '%s' is an empty mesh: recompute it or remove it from the "
+                             "mesh inputs" % obj.Label)
+    parent = obj.getGlobalPlacement().multiply(obj.Placement.inverse())
+    if not parent.isIdentity():
+        points = [parent.multVec(p) for p in points]
+    return [[p.x, p.y, p.z] for p in points], [list(t) for t in triangles]
+
+
+def input_item(obj):
+    """(job input dict without role/material, kind text) for one input object.
+
+    Mesh features become in-memory triangle surfaces; everything with a shape goes as BREP
+    text, and the core makes one input per solid (file order = priority) of a compound."""
+    if is_mesh_feature(obj):
+        points, triangles = global_mesh(obj)
+        return ({"name": obj.Label, "surface": {"points": points, "triangles": triangles}},
+                "triangle surface (%d triangles)" % len(triangles))
+    shape = global_shape(obj)
+    return {"name": obj.Label, "brep": shape.exportBrepToString()}, shape_kind(shape)
+
+
+def solid_count(obj):
+    return len(global_shape(obj).Solids)
+
+
+def shape_kind(shape):
+    solids = len(shape.Solids)
+    if solids == 1 and shape.ShapeType == "Solid":
+        return "B-rep solid"
+    if solids >= 1:
+        return "B-rep compound (%d solid%s)" % (solids, "" if solids == 1 else "s")
+    shells = len(shape.Shells)
+    if shells:
+        return "B-rep shell%s (made solid if closed)" % ("" if shells == 1 else "s")
+    return "no solid (%s)" % shape.ShapeType
+
+
+def can_be_input(obj):
+    """Could obj be a mesh input: a shape with solids or shells, or a non-empty Mesh object."""
+    if is_mesh_feature(obj):
+        return obj.Mesh.CountFacets > 0
+    shape = getattr(obj, "Shape", None)
+    return shape is not None and not shape.isNull() and bool(shape.Solids or shape.Shells)
+
+
+def input_kinds(mesh_obj):
+    """'<Label>: <kind>' for every entry of the mesh object, in priority order."""
+    lines = []
+    for obj, role in priority_entries(mesh_obj.Inputs, mesh_obj.Cuts):
+        try:
+            if is_mesh_feature(obj):
+                kind = "triangle surface (%d triangles)" % obj.Mesh.CountFacets
+            else:
+                kind = shape_kind(global_shape(obj))
+        except MeshInputError as e:
+            kind = "not usable: %s" % e
+        lines.append("%s: %s%s" % (obj.Label, kind, " (cut)" if role == "cut" else ""))
+    return lines
 
 
 def priority_entries(inputs, cuts):
@@ -84,8 +163,35 @@ def fem_materials(mesh_obj):
             or femutils.is_of_type(o, "Fem::MaterialReinforced")]
 
 
+def _subnames(ref):
+    subs = ref[1] if len(ref) > 1 else ()
+    return (subs,) if isinstance(subs, str) else tuple(subs)
+
+
+def references(material, obj, solid=None):
+    """Does the FEM material reference obj (solid=None), or solid number `solid` of obj?
+
+    A reference to the whole object (no sub-element) covers every solid of it; a reference
+    to 'SolidK' covers that solid only, as FreeCAD's own CalculiX writer reads it."""
+    for ref in material.References:
+        if ref[0] != obj:
+            continue
+        subs = [s for s in _subnames(ref) if s]
+        if solid is None or not subs or "Solid%d" % solid in subs:
+            return True
+    return False
+
+
+def solid_references(materials, obj):
+    """Does any FEM material name single solids ('SolidK') of obj?"""
+    return any(sub.startswith("Solid") for m in materials for ref in m.References
+               if ref[0] == obj for sub in _subnames(ref))
+
+
 def volume_groups(material_entries, materials):
-    """[(group_name, [material ids])] for the material inputs [(obj, material_id)].
+    """[(group_name, [material ids])] for the material inputs [(obj, material_id)] or
+    [(obj, material_id, solid number)] (one entry per solid of a compound whose solids FEM
+    materials reference one by one).
 
     FreeCAD 0.20's CalculiX writer (femmesh/meshtools.get_femelement_sets_from_group_data)
     takes, for each FEM material, the first Volume group whose name starts with
@@ -97,12 +203,15 @@ def volume_groups(material_entries, materials):
     by_name = {}
     order = []
     fallback = [m for m in materials if not m.References]
-    for obj, mid in material_entries:
-        owners = [m for m in materials if any(ref[0] == obj for ref in m.References)]
+    for entry in material_entries:
+        obj, mid = entry[0], entry[1]
+        solid = entry[2] if len(entry) > 2 else None
+        what = obj.Label if solid is None else "%s (Solid%d)" % (obj.Label, solid)
+        owners = [m for m in materials if references(m, obj, solid)]
         if len(owners) > 1:
             FreeCAD.Console.PrintWarning(
                 "OracleMesh: input '%s' is referenced by several FEM materials (%s); using '%s'\n"
-                % (obj.Label, ", ".join(m.Label for m in owners), owners[0].Label))
+                % (what, ", ".join(m.Label for m in owners), owners[0].Label))
         if owners:
             name = owners[0].Name + "_Volumes"
         elif fallback:
@@ -157,12 +266,22 @@ def build_job(mesh_obj):
             "the solids to mesh from Cuts" % (mesh_obj.Label,
                                              ", ".join(o.Label for o, _ in entries)))
 
+    materials = fem_materials(mesh_obj)
     job_inputs, material_entries, described = [], [], []
     for obj, role in entries:
-        item = {"name": obj.Label, "brep": global_shape(obj).exportBrepToString()}
+        item, _ = input_item(obj)
         if role == "cut":
             item["role"] = "cut"
             described.append((obj, "cut", None))
+        elif "brep" in item and solid_references(materials, obj) and solid_count(obj) > 1:
+            # FEM materials name single solids of this compound (an imported assembly):
+            # each solid gets its own material id, so each can join its material's group.
+            mids = []
+            for solid in range(1, solid_count(obj) + 1):
+                mids.append(len(material_entries) + 1)
+                material_entries.append((obj, mids[-1], solid))
+                described.append((obj, "material", mids[-1]))
+            item["materials"] = mids
         else:
             mid = len(material_entries) + 1
             item["material"] = mid
@@ -180,17 +299,20 @@ def build_job(mesh_obj):
             default[key] = value
 
     per_material = {}
-    by_key = {}
-    for obj, mid in material_entries:
-        by_key[obj.Name] = mid
-        by_key.setdefault(obj.Label, mid)
+    # Name (or else Label) -> material ids of the input (one per solid when split).
+    by_name, by_label = {}, {}
+    for entry in material_entries:
+        by_name.setdefault(entry[0].Name, []).append(entry[1])
+        by_label.setdefault(entry[0].Label, []).append(entry[1])
+    by_key = dict(by_label, **by_name)
     for key, text in dict(mesh_obj.InputSizes).items():
         if key not in by_key:
             raise MeshInputError(
                 "InputSizes names '%s', which is not a material input of '%s': use the Name "
                 "or Label of an object in Inputs" % (key, mesh_obj.Label))
-        per_material.setdefault(str(by_key[key]), {}).update(
-            parse_size_entry(text, "InputSizes['%s']" % key))
+        sizes = parse_size_entry(text, "InputSizes['%s']" % key)
+        for mid in by_key[key]:
+            per_material.setdefault(str(mid), {}).update(sizes)
 
     job = {
         "inputs": job_inputs,
@@ -210,5 +332,5 @@ def build_job(mesh_obj):
         if mesh_obj.OutputReport:
             job["output"]["report"] = mesh_obj.OutputReport
 
-    groups = volume_groups(material_entries, fem_materials(mesh_obj))
+    groups = volume_groups(material_entries, materials)
     return job, groups, described

@@ -11,7 +11,7 @@ import json
 import FreeCAD
 
 from .handoff import build_femmesh
-from .job import build_job
+from .job import build_job, input_kinds
 from .runner import import_core, run_job
 
 TYPE = "Fem::OracleMesh"
@@ -25,6 +25,9 @@ class MeshingFailed(Exception):
 PROPERTIES = (
     ("App::PropertyLinkList", "Inputs", "Inputs",
      "Solids to mesh, highest priority first: where inputs overlap, the earlier one wins", None),
+    ("App::PropertyStringList", "InputKinds", "Inputs",
+     "What each input is to the mesher, in priority order: B-rep solid, B-rep compound (one "
+     "input per solid), triangle surface (Mesh object); updated on recompute", None),
     ("App::PropertyLinkList", "Cuts", "Inputs",
      "Regions removed from every input (a cut also listed in Inputs acts only on the inputs "
      "after it)", None),
@@ -62,7 +65,7 @@ PROPERTIES = (
     ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
     ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
 )
-READ_ONLY = ("Status", "Report")
+READ_ONLY = ("Status", "Report", "InputKinds")
 
 
 class OracleMeshProxy:
@@ -89,7 +92,16 @@ class OracleMeshProxy:
     def onDocumentRestored(self, obj):
         self.add_properties(obj)
 
+    def onChanged(self, obj, prop):
+        # The user sees at once what a newly linked object is to the mesher. Not while a
+        # document loads: the saved list is already right and linked shapes may not be yet.
+        if prop in ("Inputs", "Cuts") and hasattr(obj, "InputKinds") and "Restore" not in obj.State:
+            kinds = input_kinds(obj)
+            if list(obj.InputKinds) != kinds:
+                obj.InputKinds = kinds
+
     def execute(self, obj):
+        obj.InputKinds = input_kinds(obj)
         try:
             job, groups, described = build_job(obj)
             result = run_job(job, obj.Label)
@@ -167,7 +179,7 @@ OPTION_PROPERTIES = {
 def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
     """Make an OracleMesh mesh object (not recomputed; call doc.recompute()).
 
-    inputs: solids, highest priority first. cuts: regions removed from every input.
+    inputs: solids, compounds of solids or Mesh objects, highest priority first. cuts: regions removed from every input.
     analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no features),

@@ -25,6 +25,7 @@
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
@@ -37,6 +38,7 @@
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
@@ -131,71 +133,134 @@ double signedVolume(const TopoDS_Shape& solid) {
   return props.Mass();
 }
 
-// Turns whatever the user gave into a solid or a compound of solids, or explains why not.
-TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what) {
+// The solids of one input in file order, and the open shells left out of it.
+struct SolidPieces {
+  std::vector<TopoDS_Solid> solids;
+  std::vector<std::string> skipped;  // what was left out: "open shell (item 17 of 18, 3 faces, ...)"
+};
+
+// Walks compounds depth first so that solids and shells come out in the order the file (or
+// FreeCAD's compound) lists them: that order is the priority of per-solid inputs.
+void collectPieces(const TopoDS_Shape& shape, std::vector<TopoDS_Shape>& items, TopoDS_Compound& looseFaces,
+                   int64_t& looseFaceCount) {
+  switch (shape.ShapeType()) {
+    case TopAbs_COMPOUND:
+    case TopAbs_COMPSOLID:
+      for (TopoDS_Iterator it(shape); it.More(); it.Next())
+        collectPieces(it.Value(), items, looseFaces, looseFaceCount);
+      break;
+    case TopAbs_SOLID:
+    case TopAbs_SHELL:
+      items.push_back(shape);
+      break;
+    case TopAbs_FACE: {
+      BRep_Builder builder;
+      builder.Add(looseFaces, shape);
+      ++looseFaceCount;
+      break;
+    }
+    default:
+      break;  // wires, edges and vertices bound no volume; counted only if nothing else is found
+  }
+}
+
+std::string near(const TopoDS_Shape& shape) {
+  const Bbox b = boxOf(shape);
+  std::ostringstream out;
+  out.precision(6);
+  out << "(" << 0.5 * (b.min[0] + b.max[0]) << ", " << 0.5 * (b.min[1] + b.max[1]) << ", "
+      << 0.5 * (b.min[2] + b.max[2]) << ")";
+  return out.str();
+}
+
+int64_t countFaces(const TopoDS_Shape& shape) {
+  int64_t n = 0;
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) ++n;
+  return n;
+}
+
+// Turns whatever the user gave into solids, or explains why not. Policy for open shells
+// (surfaces that bound no volume): beside at least one solid they are left out with a warning
+// naming them (assemblies from CAD tools carry stray sheets, e.g. presse_asm.step); when
+// nothing solid remains the input is an error. A solid whose own boundary is open is always
+// an error: the user meant it to be a volume, and leaving it out would change the model.
+SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
   if (input.IsNull())
     throw InputError(what + " holds no geometry: select a solid, or a closed shell");
   const double sewTolerance = std::max(1e-6 * boxOf(input).diagonal(), 1e-7);
 
-  std::vector<TopoDS_Solid> solids;
-  for (TopExp_Explorer ex(input, TopAbs_SOLID); ex.More(); ex.Next()) {
-    TopoDS_Solid solid = TopoDS::Solid(ex.Current());
-    const int64_t freeEdges = countFreeEdges(solid);
-    if (freeEdges > 0)
-      throw InputError(what + " has a solid whose boundary is open (" + plural(freeEdges, "free edge") +
-                       "): repair the solid (Part > Check geometry, Part > Refine shape) or rebuild it from a "
-                       "closed shell");
-    solids.push_back(solid);
-  }
-
-  std::vector<TopoDS_Shell> shells;
-  for (TopExp_Explorer ex(input, TopAbs_SHELL, TopAbs_SOLID); ex.More(); ex.Next())
-    shells.push_back(TopoDS::Shell(ex.Current()));
-  int64_t looseFaces = 0;
-  TopoDS_Compound faceBag;
+  std::vector<TopoDS_Shape> items;
   BRep_Builder builder;
+  TopoDS_Compound faceBag;
   builder.MakeCompound(faceBag);
-  for (TopExp_Explorer ex(input, TopAbs_FACE, TopAbs_SHELL); ex.More(); ex.Next()) {
-    builder.Add(faceBag, ex.Current());
-    ++looseFaces;
-  }
+  int64_t looseFaces = 0;
+  collectPieces(input, items, faceBag, looseFaces);
 
-  for (const TopoDS_Shell& shell : shells) {
-    TopoDS_Shape closed = shell;
-    int64_t freeEdges = countFreeEdges(shell);
-    if (freeEdges > 0) {
+  SolidPieces pieces;
+  struct OpenShell {
+    size_t item;
+    int64_t faces, freeEdges;
+    std::string near;
+  };
+  std::vector<OpenShell> open;
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (items[i].ShapeType() == TopAbs_SOLID) {
+      const TopoDS_Solid& solid = TopoDS::Solid(items[i]);
+      const int64_t freeEdges = countFreeEdges(solid);
+      if (freeEdges > 0)
+        throw InputError(what + " has a solid whose boundary is open (" + plural(freeEdges, "free edge") +
+                         (items.size() > 1 ? ", item " + std::to_string(i + 1) + " of " + std::to_string(items.size()) +
+                                                 " near " + near(solid)
+                                           : "") +
+                         "): repair the solid (Part > Check geometry, Part > Refine shape) or rebuild it from a "
+                         "closed shell");
+      pieces.solids.push_back(solid);
+      continue;
+    }
+    TopoDS_Shape closed = items[i];
+    if (countFreeEdges(items[i]) > 0) {
       // A shell that only lacks sewing (faces not sharing their edges) is still a closed
       // surface to the user; sewing is what FreeCAD's Shape builder would do.
-      const TopoDS_Shape sewn = sewFaces(shell, sewTolerance);
-      const int64_t sewnFree = countFreeEdges(sewn);
+      closed = sewFaces(items[i], sewTolerance);
+      const int64_t sewnFree = countFreeEdges(closed);
       if (sewnFree > 0) {
-        const size_t others = solids.size() + shells.size() - 1;
-        throw InputError(what + (others == 0 ? " is an open shell with " : " holds an open shell with ") +
-                         plural(sewnFree, "free edge") +
-                         (others == 0 ? "" : " (besides " + std::to_string(others) + " other solids and shells)") +
-                         ": close the surface or sew it (Part > Shape builder)" +
-                         (others == 0 ? "" : ", or leave it out of the input"));
+        open.push_back({i, countFaces(items[i]), sewnFree, near(items[i])});
+        continue;
       }
-      closed = sewn;
     }
     for (TopExp_Explorer ex(closed, TopAbs_SHELL); ex.More(); ex.Next())
-      solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
+      pieces.solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
   }
 
+  // Loose faces (IGES files of trimmed surfaces, exploded shells) are sewn together first.
+  bool looseFacesClose = true;
+  int looseShells = 0;
+  int64_t looseFree = 0;
   if (looseFaces > 0) {
     const TopoDS_Shape sewn = sewFaces(faceBag, sewTolerance);
-    int shellCount = 0;
-    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next()) ++shellCount;
-    const int64_t sewnFree = countFreeEdges(sewn);
-    if (shellCount == 0 || sewnFree > 0)
-      throw InputError(what + " holds no solid (found " + plural(looseFaces, "face") +
-                       (shellCount > 0 ? " that leave " + plural(sewnFree, "free edge") + " when sewn" : "") +
-                       "): select a solid, or a closed shell");
-    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
-      solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
+    looseFree = countFreeEdges(sewn);
+    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next()) ++looseShells;
+    looseFacesClose = looseShells > 0 && looseFree == 0;
+    if (looseFacesClose)
+      for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
+        pieces.solids.push_back(solidFromClosedShell(TopoDS::Shell(ex.Current())));
   }
 
-  if (solids.empty()) {
+  if (pieces.solids.empty()) {
+    if (open.size() == 1 && items.size() == 1 && looseFaces == 0)
+      throw InputError(what + " is an open shell with " + plural(open.front().freeEdges, "free edge") +
+                       ": close the surface or sew it (Part > Shape builder)");
+    if (!open.empty()) {
+      int64_t freeEdges = 0;
+      for (const OpenShell& s : open) freeEdges += s.freeEdges;
+      throw InputError(what + " holds only open shells (" + std::to_string(open.size()) + " shells with " +
+                       plural(freeEdges, "free edge") + " in all) and no solid: close the surfaces or sew them "
+                       "(Part > Shape builder)");
+    }
+    if (looseFaces > 0)
+      throw InputError(what + " holds no solid (found " + plural(looseFaces, "face") +
+                       (looseShells > 0 ? " that leave " + plural(looseFree, "free edge") + " when sewn" : "") +
+                       "): select a solid, or a closed shell");
     int64_t edges = 0, vertices = 0;
     for (TopExp_Explorer ex(input, TopAbs_EDGE); ex.More(); ex.Next()) ++edges;
     for (TopExp_Explorer ex(input, TopAbs_VERTEX); ex.More(); ex.Next()) ++vertices;
@@ -203,17 +268,40 @@ TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what)
     throw InputError(what + " holds no solid (found " + found + "): select a solid, or a closed shell");
   }
 
-  for (TopoDS_Solid& solid : solids) {
+  for (const OpenShell& s : open)
+    pieces.skipped.push_back("open shell (item " + std::to_string(s.item + 1) + " of " + std::to_string(items.size()) +
+                             ", " + plural(s.faces, "face") + ", " + plural(s.freeEdges, "free edge") + ", near " +
+                             s.near + ")");
+  if (!looseFacesClose)
+    pieces.skipped.push_back(plural(looseFaces, "loose face") + " that leave " + plural(looseFree, "free edge") +
+                             " when sewn");
+
+  for (TopoDS_Solid& solid : pieces.solids) {
     const double v = signedVolume(solid);
     if (v < 0) solid.Reverse();  // inside out (faces oriented inward): flip it
     if (!(std::abs(v) > 0))
       throw InputError(what + " has a solid with zero volume: select a solid that encloses a volume");
   }
+  return pieces;
+}
+
+TopoDS_Shape compoundOf(const std::vector<TopoDS_Solid>& solids) {
   if (solids.size() == 1) return solids.front();
+  BRep_Builder builder;
   TopoDS_Compound compound;
   builder.MakeCompound(compound);
   for (const TopoDS_Solid& s : solids) builder.Add(compound, s);
   return compound;
+}
+
+// The constructor's check: every part of the shape must be a volume. Loaders that may leave
+// open shells out (with a warning) split the shape first and pass only its solids.
+TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what) {
+  const SolidPieces pieces = solidPieces(input, what);
+  if (!pieces.skipped.empty())
+    throw InputError(what + " holds, besides its solids, pieces that bound no volume (first: " + pieces.skipped.front() +
+                     "): close them (Part > Shape builder), or leave them out of the input");
+  return compoundOf(pieces.solids);
 }
 
 std::string describe(const std::string& name, const std::string& path) {
@@ -483,8 +571,10 @@ BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name) : impl_(std::m
 
 BrepSolid::~BrepSolid() = default;
 
-std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const std::string& name) {
-  const std::string what = describe(name, path);
+namespace {
+
+// Reads a STEP, IGES or BREP file into one shape; InputError naming the input and the file.
+TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
@@ -500,30 +590,29 @@ std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const st
       if (reader.TransferRoots() == 0)
         throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
       shape = reader.OneShape();
+    } else if (ext == "iges" || ext == "igs") {
+      IGESControl_Reader reader;
+      if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError(what + " is not a readable IGES file: export it again (IGES 5.3, or better STEP) from the CAD tool");
+      if (reader.TransferRoots() == 0)
+        throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as IGES 5.3 or STEP");
+      shape = reader.OneShape();
     } else if (ext == "brep" || ext == "brp") {
       BRep_Builder builder;
       if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
         throw InputError(what + " is not a readable BREP file: write it again with Part > Export (*.brep)");
     } else {
       throw InputError(what + " has an unsupported file type '." + ext +
-                       "': give a STEP (.step, .stp) or BREP (.brep, .brp) file");
+                       "': give a STEP (.step, .stp), IGES (.iges, .igs) or BREP (.brep, .brp) file");
     }
   } catch (const Standard_Failure& failure) {
     throw InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
                      "): export it again from the CAD tool");
   }
-  try {
-    return std::make_shared<BrepSolid>(shape, name);
-  } catch (const InputError& e) {
-    // Name the file too: the user may have several inputs with similar names.
-    std::string message = e.what();
-    const std::string prefix = "input '" + name + "'";
-    if (message.rfind(prefix, 0) == 0) message = what + message.substr(prefix.size());
-    throw InputError(message);
-  }
+  return shape;
 }
 
-std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, const std::string& name) {
+TopoDS_Shape readBrepText(const std::string& text, const std::string& name) {
   TopoDS_Shape shape;
   try {
     std::istringstream stream(text);
@@ -536,7 +625,67 @@ std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, cons
   if (shape.IsNull())
     throw InputError("input '" + name +
                      "' has BREP text OpenCASCADE cannot read: pass Shape.exportBrepToString() of a solid");
-  return std::make_shared<BrepSolid>(shape, name);
+  return shape;
+}
+
+// Errors of the constructor name the input; loaders of files name the file as well, since a
+// user may have several inputs with similar names.
+template <class Action>
+auto namingTheFile(const std::string& name, const std::string& what, Action action) {
+  try {
+    return action();
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    const std::string prefix = "input '" + name + "'";
+    if (message.rfind(prefix, 0) == 0 && what != prefix) message = what + message.substr(prefix.size());
+    throw InputError(message);
+  }
+}
+
+}  // namespace
+
+BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
+                                  const std::string& path) {
+  const std::string what = describe(name, path);
+  Loaded loaded;
+  SolidPieces pieces;
+  try {
+    pieces = solidPieces(shape, what);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +
+                     "): check it with Part > Check geometry and repair it");
+  }
+  for (const std::string& s : pieces.skipped)
+    loaded.warnings.push_back(what + ": " + s + " bounds no volume and was left out; close it (Part > Shape builder) "
+                              "if it should be meshed");
+  if (grouping == Grouping::Together || pieces.solids.size() == 1) {
+    loaded.solids.push_back(namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(compoundOf(pieces.solids), name); }));
+    return loaded;
+  }
+  for (size_t i = 0; i < pieces.solids.size(); ++i) {
+    const std::string solidName = name + "#" + std::to_string(i + 1);
+    loaded.solids.push_back(namingTheFile(solidName, describe(solidName, path),
+                                          [&] { return std::make_shared<BrepSolid>(pieces.solids[i], solidName); }));
+  }
+  return loaded;
+}
+
+BrepSolid::Loaded BrepSolid::loadFile(const std::string& path, const std::string& name, Grouping grouping) {
+  return load(readShapeFile(path, describe(name, path)), name, grouping, path);
+}
+
+BrepSolid::Loaded BrepSolid::loadBrepText(const std::string& text, const std::string& name, Grouping grouping) {
+  return load(readBrepText(text, name), name, grouping);
+}
+
+std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const std::string& name) {
+  const std::string what = describe(name, path);
+  const TopoDS_Shape shape = readShapeFile(path, what);
+  return namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(shape, name); });
+}
+
+std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, const std::string& name) {
+  return std::make_shared<BrepSolid>(readBrepText(text, name), name);
 }
 
 const std::string& BrepSolid::name() const { return impl_->name; }

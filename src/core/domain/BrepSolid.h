@@ -1,5 +1,5 @@
 #pragma once
-// A B-rep solid input (STEP, BREP file or BREP text from FreeCAD), answered exactly by
+// A B-rep solid input (STEP, IGES, BREP file or BREP text from FreeCAD), answered exactly by
 // OpenCASCADE where it matters and through a tessellation proxy everywhere else.
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
@@ -15,13 +15,31 @@ namespace oraclemesh {
 
 class BrepSolid : public Source {
  public:
-  // Reads a STEP (.step/.stp) or BREP (.brep/.brp) file. All solids of the file form this
-  // one input. A closed shell without a solid is made a solid; an open shell, a file with no
-  // solid or an unreadable file is an InputError naming `name` and the file.
-  static std::shared_ptr<BrepSolid> fromFile(const std::string& path, const std::string& name);
+  // How the solids of one file (or BREP text) become oracle inputs: one input per solid in the
+  // order the file lists them, named "<name>#1".."<name>#N" (just "<name>" for a single
+  // solid), or all of them as one input "<name>".
+  enum class Grouping { Separate, Together };
+  struct Loaded {
+    std::vector<std::shared_ptr<BrepSolid>> solids;  // highest priority first
+    // Open shells (and loose faces) left out because solids remain: one sentence each,
+    // naming the input, the file, the shell's place in the file and its free edges.
+    std::vector<std::string> warnings;
+  };
+  // Reads a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file. A closed shell
+  // (or faces that sew into one) is made a solid. Open shells beside at least one solid are
+  // left out with a warning; an input with no solid left, a solid with an open boundary or an
+  // unreadable file is an InputError naming `name` and the file.
+  static Loaded loadFile(const std::string& path, const std::string& name, Grouping grouping);
   // BREP text as written by OpenCASCADE's BRepTools::Write (FreeCAD: Shape.exportBrepToString()).
+  static Loaded loadBrepText(const std::string& text, const std::string& name, Grouping grouping);
+  // `path` only names the file in messages.
+  static Loaded load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
+                     const std::string& path = "");
+  // All solids of the file or text as this one input; open shells beside solids are an error
+  // here (there is nowhere to put the warning): use loadFile / loadBrepText to skip them.
+  static std::shared_ptr<BrepSolid> fromFile(const std::string& path, const std::string& name);
   static std::shared_ptr<BrepSolid> fromBrepText(const std::string& text, const std::string& name);
-  // Takes a shape holding one or more solids (or closed shells); validates it as above.
+  // Takes a shape holding one or more solids (or closed shells); every part must bound a volume.
   BrepSolid(const TopoDS_Shape& shape, std::string name);
   ~BrepSolid() override;
 

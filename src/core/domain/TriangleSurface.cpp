@@ -15,6 +15,8 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -79,34 +81,171 @@ std::shared_ptr<TriangleSurface> TriangleSurface::fromFile(const std::string& pa
   if (!read || polygons.empty())
     throw InputError(what + " is not a readable " + ext.substr(1) +
                      " file with triangles (truncated or damaged?): export it again");
-  for (const auto& polygon : polygons)
+  for (const auto& polygon : polygons) {
     for (std::size_t v : polygon)
       if (v >= points.size()) throw InputError(what + " refers to vertices it does not have: export it again");
+    if (polygon.size() != 3)
+      throw InputError(what + " has a face with " + std::to_string(polygon.size()) +
+                       " corners: only triangles are read; triangulate the surface when exporting it");
+  }
+  std::vector<Point3> corners;
+  corners.reserve(points.size());
+  for (const KPoint& p : points) corners.push_back({p.x(), p.y(), p.z()});
+  std::vector<std::array<int64_t, 3>> triangles;
+  triangles.reserve(polygons.size());
+  for (const auto& t : polygons)
+    triangles.push_back({static_cast<int64_t>(t[0]), static_cast<int64_t>(t[1]), static_cast<int64_t>(t[2])});
+  return validated(std::move(corners), triangles, name, what,
+                   [](std::size_t t) { return "triangle " + std::to_string(t + 1) + " of the file (counting from 1)"; });
+}
+
+std::shared_ptr<TriangleSurface> TriangleSurface::fromTriangles(std::vector<Point3> points,
+                                                                const std::vector<std::array<int64_t, 3>>& triangles,
+                                                                const std::string& name) {
+  const std::string what = "input '" + name + "' (triangle surface)";
+  if (triangles.empty()) throw InputError(what + " is empty: give at least the triangles of one closed surface");
+  for (const Point3& p : points)
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InputError(what + " has a point with a coordinate that is not a finite number: fix the points");
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int64_t v : triangles[t])
+      if (v < 0 || v >= static_cast<int64_t>(points.size()))
+        throw InputError(what + ": triangles[" + std::to_string(t) + "] refers to point " + std::to_string(v) +
+                         ", but there are " + std::to_string(points.size()) + " points (indices count from 0)");
+  return validated(std::move(points), triangles, name, what,
+                   [](std::size_t t) { return "triangles[" + std::to_string(t) + "]"; });
+}
+
+namespace {
+
+// The two triangles using an undirected edge, and whether each runs along it (a -> b, a < b).
+struct EdgeUse {
+  std::size_t count = 0;
+  std::size_t triangle[2] = {0, 0};
+  bool forward[2] = {false, false};
+};
+
+}  // namespace
+
+std::shared_ptr<TriangleSurface> TriangleSurface::validated(std::vector<Point3> corners,
+                                                            const std::vector<std::array<int64_t, 3>>& input,
+                                                            const std::string& name, const std::string& what,
+                                                            const std::function<std::string(std::size_t)>& triangleName) {
+  std::vector<KPoint> points;
+  points.reserve(corners.size());
+  for (const Point3& p : corners) points.emplace_back(p[0], p[1], p[2]);
+  std::vector<std::vector<std::size_t>> polygons;
+  polygons.reserve(input.size());
+  for (const auto& t : input) polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   // STL repeats every vertex per triangle: merge them so the triangles share edges.
   PMP::merge_duplicate_points_in_polygon_soup(points, polygons);
-  // Triangles that collapsed onto an edge or a point (merged corners) bound nothing.
-  polygons.erase(std::remove_if(polygons.begin(), polygons.end(),
-                                [](const std::vector<std::size_t>& t) {
-                                  return t.size() != 3 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-                                }),
-                 polygons.end());
+  // Triangles that collapsed onto an edge or a point (merged corners) bound nothing. The
+  // survivors keep their input index for messages.
+  std::vector<std::size_t> inputIndex;
+  {
+    std::vector<std::vector<std::size_t>> kept;
+    for (std::size_t i = 0; i < polygons.size(); ++i) {
+      const auto& t = polygons[i];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      kept.push_back(t);
+      inputIndex.push_back(i);
+    }
+    polygons.swap(kept);
+  }
   if (polygons.empty()) throw InputError(what + " has only degenerate triangles: export it again");
+  auto describeTriangle = [&](std::size_t t) {
+    const auto& p = polygons[t];
+    return triangleName(inputIndex[t]) + " with corners " + where(points[p[0]]) + ", " + where(points[p[1]]) + ", " +
+           where(points[p[2]]);
+  };
+
+  // Edge use, read straight off the triangles: holes, non-manifold edges and local
+  // orientation flips are named before CGAL's soup repair could hide or refuse them.
+  std::map<std::pair<std::size_t, std::size_t>, EdgeUse> edges;
+  for (std::size_t t = 0; t < polygons.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t a = polygons[t][k], b = polygons[t][(k + 1) % 3];
+      EdgeUse& use = edges[{std::min(a, b), std::max(a, b)}];
+      if (use.count < 2) {
+        use.triangle[use.count] = t;
+        use.forward[use.count] = a < b;
+      }
+      ++use.count;
+    }
+  std::size_t borderEdges = 0;
+  for (const auto& [edge, use] : edges) {
+    if (use.count > 2)
+      throw InputError(what + " is not a manifold surface: the edge from " + where(points[edge.first]) + " to " +
+                       where(points[edge.second]) + " is shared by " + std::to_string(use.count) +
+                       " triangles; repair it (e.g. MeshLab, FreeCAD Mesh > Analyze > Evaluate and repair)");
+    if (use.count == 1) ++borderEdges;
+  }
+  if (borderEdges > 0)
+    throw InputError(what + " is not closed: it has holes bounded by " + std::to_string(borderEdges) +
+                     " border edges; fill the holes (FreeCAD Mesh > Analyze > Evaluate and repair)");
+  // Orientation: neighbours must run along their shared edge in opposite directions. Walking
+  // each connected piece from its first triangle splits it into the triangles agreeing with
+  // that one and those against it; the smaller group is what was flipped. A surface that is
+  // consistently inward (a whole file written inside out) is turned round silently below.
+  {
+    std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(polygons.size());  // (other, same direction)
+    for (const auto& [edge, use] : edges)
+      if (use.count == 2) {
+        const bool clash = use.forward[0] == use.forward[1];
+        neighbours[use.triangle[0]].push_back({use.triangle[1], clash});
+        neighbours[use.triangle[1]].push_back({use.triangle[0], clash});
+      }
+    std::vector<int> side(polygons.size(), -1);
+    for (std::size_t start = 0; start < polygons.size(); ++start) {
+      if (side[start] >= 0) continue;
+      std::vector<std::size_t> piece{start}, stack{start};
+      side[start] = 0;
+      bool nonOrientable = false;
+      while (!stack.empty()) {
+        const std::size_t t = stack.back();
+        stack.pop_back();
+        for (const auto& [n, clash] : neighbours[t]) {
+          const int expected = clash ? 1 - side[t] : side[t];
+          if (side[n] < 0) {
+            side[n] = expected;
+            piece.push_back(n);
+            stack.push_back(n);
+          } else if (side[n] != expected) {
+            nonOrientable = true;
+          }
+        }
+      }
+      if (nonOrientable)
+        throw InputError(what + " is not orientable (a one-sided surface such as a Moebius strip, near " +
+                         describeTriangle(start) + "): it bounds no solid; repair it");
+      std::vector<std::size_t> against;
+      for (std::size_t t : piece)
+        if (side[t] == 1) against.push_back(t);
+      if (against.empty()) continue;
+      if (2 * against.size() > piece.size()) {
+        against.clear();
+        for (std::size_t t : piece)
+          if (side[t] == 0) against.push_back(t);
+      }
+      std::sort(against.begin(), against.end());
+      throw InputError(what + " has " + std::to_string(against.size()) +
+                       (against.size() == 1 ? " triangle oriented against its neighbours ("
+                                            : " triangles oriented against their neighbours (first: ") +
+                       describeTriangle(against.front()) +
+                       "): reverse the corner order of " + (against.size() == 1 ? "that triangle" : "those triangles") +
+                       " (FreeCAD Mesh > Analyze > Evaluate and repair > Orientation)");
+    }
+  }
 
   auto surface = std::shared_ptr<TriangleSurface>(new TriangleSurface());
   Impl& m = *surface->impl_;
   m.name = name;
-  // Orientation is fixed silently (scans come either way round); what cannot be oriented
-  // consistently is a non-manifold surface.
+  // Edges are now manifold and consistently oriented; what orient_polygon_soup still refuses
+  // are surfaces touching at a single vertex.
   if (!PMP::orient_polygon_soup(points, polygons))
-    throw InputError(what + " is not a manifold surface (edges shared by more than two triangles or "
-                     "surfaces touching at a vertex): repair it (e.g. MeshLab, FreeCAD Mesh > Analyze)");
+    throw InputError(what + " is not a manifold surface (surfaces touching at a vertex): repair it (e.g. MeshLab, "
+                     "FreeCAD Mesh > Analyze > Evaluate and repair)");
   PMP::polygon_soup_to_polygon_mesh(points, polygons, m.mesh);
-  std::size_t borderEdges = 0;
-  for (auto h : m.mesh.halfedges())
-    if (m.mesh.is_border(h)) ++borderEdges;
-  if (borderEdges > 0)
-    throw InputError(what + " is not closed: it has holes bounded by " + std::to_string(borderEdges) +
-                     " border edges; fill the holes (FreeCAD Mesh > Analyze > Evaluate and repair)");
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> crossing;
   PMP::self_intersections(m.mesh, std::back_inserter(crossing));
   if (!crossing.empty()) {
@@ -122,6 +261,7 @@ std::shared_ptr<TriangleSurface> TriangleSurface::fromFile(const std::string& pa
     m.box.add(Point3{p.x(), p.y(), p.z()});
   }
   m.volume = CGAL::to_double(PMP::volume(m.mesh));
+  if (!(m.volume > 0)) throw InputError(what + " encloses no volume: give a closed surface around a solid");
   m.tree = std::make_unique<Tree>(faces(m.mesh).first, faces(m.mesh).second, m.mesh);
   m.tree->accelerate_distance_queries();  // built now, so that const queries never build
   m.side = std::make_unique<Side>(*m.tree);

@@ -1,9 +1,14 @@
 #pragma once
-// A watertight triangle surface input (STL ASCII/binary, OBJ, OFF): scanned bones, exported
-// meshes. Validated before any query: closed, manifold, not self-intersecting; the
-// orientation is fixed silently so the normals point outward.
+// A watertight triangle surface input (STL ASCII/binary, OBJ, OFF, or triangles in memory
+// such as a FreeCAD Mesh): scanned bones, exported meshes. Validated before any query:
+// closed, manifold, consistently oriented, not self-intersecting. A surface that is inward
+// as a whole is turned round silently; a triangle flipped against its neighbours is an error.
+#include <array>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "domain/Source.h"
 
@@ -12,8 +17,13 @@ namespace oraclemesh {
 class TriangleSurface : public Source {
  public:
   // InputError naming `name`, the file and the defect (empty, unreadable, holes with their
-  // border edge count, non-manifold, self-intersections with a location).
+  // border edge count, non-manifold, flipped triangles by number, self-intersections with a
+  // location).
   static std::shared_ptr<TriangleSurface> fromFile(const std::string& path, const std::string& name);
+  // Triangles as 0-based indices into `points` (the job's "surface" input); the same checks.
+  static std::shared_ptr<TriangleSurface> fromTriangles(std::vector<Point3> points,
+                                                        const std::vector<std::array<int64_t, 3>>& triangles,
+                                                        const std::string& name);
   ~TriangleSurface() override;
 
   const std::string& name() const override;
@@ -26,6 +36,11 @@ class TriangleSurface : public Source {
 
  private:
   TriangleSurface();
+  // The checks shared by every way in; triangleName(i) names input triangle i in messages.
+  static std::shared_ptr<TriangleSurface> validated(std::vector<Point3> points,
+                                                    const std::vector<std::array<int64_t, 3>>& triangles,
+                                                    const std::string& name, const std::string& what,
+                                                    const std::function<std::string(std::size_t)>& triangleName);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -56,19 +58,57 @@ CriteriaSpec parseCriteria(const json& c, const std::string& where) {
   return s;
 }
 
+bool isTriangleSurfaceFile(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".stl" || ext == ".obj" || ext == ".off";
+}
+
+// {"points": [[x, y, z], ...], "triangles": [[i, j, k], ...]} with 0-based indices; the
+// geometry (closed, manifold, oriented) is checked when the surface is built.
+void parseSurface(const json& surface, const std::string& label, InputSpec& s) {
+  const std::string form = ": 'surface' must be {\"points\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...]} "
+                           "with point indices counted from 0";
+  if (!surface.is_object() || !surface.contains("points") || !surface.contains("triangles") ||
+      !surface["points"].is_array() || !surface["triangles"].is_array())
+    throw InputError(label + form);
+  rejectUnknownKeys(surface, {"points", "triangles"}, label + " surface");
+  s.kind = InputSpec::Kind::Surface;
+  const json& points = surface["points"];
+  s.surface_points.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const json& p = points[i];
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+      throw InputError(label + ": surface points[" + std::to_string(i) + "] = " + p.dump() + " is not [x, y, z]" + form);
+    s.surface_points.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+  }
+  const json& triangles = surface["triangles"];
+  s.surface_triangles.reserve(triangles.size());
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const json& t = triangles[i];
+    if (!t.is_array() || t.size() != 3 || !t[0].is_number_integer() || !t[1].is_number_integer() ||
+        !t[2].is_number_integer())
+      throw InputError(label + ": surface triangles[" + std::to_string(i) + "] = " + t.dump() +
+                       " is not three point indices" + form);
+    s.surface_triangles.push_back({t[0].get<int64_t>(), t[1].get<int64_t>(), t[2].get<int64_t>()});
+  }
+}
+
 InputSpec parseInput(const json& in, size_t index, const std::string& base) {
   const std::string where = "inputs[" + std::to_string(index) + "]";
   if (!in.is_object()) throw InputError(where + " must be an object like {\"name\": \"pin\", \"file\": \"pin.step\", \"material\": 1}");
-  rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "role", "material"}, where);
+  rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "surface", "role", "material", "materials", "solids"}, where);
   InputSpec s;
   s.name = in.value("name", std::string("input ") + std::to_string(index + 1));
   const std::string label = "input '" + s.name + "'";
-  const int kinds = int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere"));
+  const int kinds =
+      int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere")) + int(in.contains("surface"));
   if (kinds != 1)
-    throw InputError(label + " must have exactly one of 'file', 'brep' or 'sphere' (it has " + std::to_string(kinds) + ")");
+    throw InputError(label + " must have exactly one of 'file', 'brep', 'sphere' or 'surface' (it has " +
+                     std::to_string(kinds) + ")");
   if (in.contains("file")) {
     if (!in["file"].is_string() || in["file"].get<std::string>().empty())
-      throw InputError(label + ": 'file' must be a path to a STEP or BREP file");
+      throw InputError(label + ": 'file' must be a path to a STEP, IGES, BREP, STL, OBJ or OFF file");
     s.kind = InputSpec::Kind::File;
     s.file = resolvePath(in["file"].get<std::string>(), base);
   } else if (in.contains("brep")) {
@@ -76,6 +116,8 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
       throw InputError(label + ": 'brep' must be non-empty BREP text (FreeCAD: Shape.exportBrepToString())");
     s.kind = InputSpec::Kind::BrepText;
     s.brep_text = in["brep"].get<std::string>();
+  } else if (in.contains("surface")) {
+    parseSurface(in["surface"], label, s);
   } else {
     const json& sp = in["sphere"];
     if (!sp.is_object() || !sp.contains("center") || !sp.contains("radius") || !sp["center"].is_array() || sp["center"].size() != 3)
@@ -88,6 +130,17 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     }
     s.radius = positiveNumber(sp["radius"], label + " sphere radius");
   }
+  const bool brep = s.kind == InputSpec::Kind::BrepText || (s.kind == InputSpec::Kind::File && !isTriangleSurfaceFile(s.file));
+  if (in.contains("solids")) {
+    if (!brep)
+      throw InputError(label + ": 'solids' applies to STEP, IGES and BREP inputs only (this input is one surface): "
+                       "remove it");
+    const json& g = in["solids"];
+    if (g != "separate" && g != "together")
+      throw InputError(label + ": 'solids' must be \"separate\" (one input per solid, in file order) or "
+                       "\"together\" (all solids as one input), got " + g.dump());
+    s.solids_together = g == "together";
+  }
   const std::string role = in.value("role", std::string("material"));
   if (role == "material") {
     s.role = Role::Material;
@@ -97,9 +150,25 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
       throw InputError(label + ": 'material' must be a positive integer id (1, 2, ...), got " + in["material"].dump());
     else
       s.material = in["material"].get<int>();
+    if (in.contains("materials")) {
+      if (in.contains("material"))
+        throw InputError(label + " has both 'material' and 'materials': give one material for all solids, or a list "
+                         "with one per solid");
+      if (!brep || s.solids_together)
+        throw InputError(label + ": 'materials' (one per solid) needs a STEP, IGES or BREP input with \"solids\": "
+                         "\"separate\"; use 'material' for a single input");
+      const json& list = in["materials"];
+      if (!list.is_array() || list.empty())
+        throw InputError(label + ": 'materials' must be a list of material ids, one per solid in file order, e.g. [1, 2, 2]");
+      for (const json& m : list) {
+        if (!m.is_number_integer() || m.get<int>() <= 0)
+          throw InputError(label + ": 'materials' entries must be positive integer ids, got " + m.dump());
+        s.solid_materials.push_back(m.get<int>());
+      }
+    }
   } else if (role == "cut") {
     s.role = Role::Cut;
-    if (in.contains("material"))
+    if (in.contains("material") || in.contains("materials"))
       throw InputError(label + " has role 'cut' and a material: a cut region removes material, remove its 'material' key");
   } else {
     throw InputError(label + ": role '" + role + "' is unknown: use 'material' or 'cut'");

@@ -3,6 +3,8 @@
 // send. Parsing validates everything a user can get wrong before any geometry is touched.
 #include <nlohmann/json_fwd.hpp>
 
+#include <array>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -14,15 +16,23 @@
 namespace oraclemesh {
 
 struct InputSpec {
-  enum class Kind { File, BrepText, Sphere };
+  enum class Kind { File, BrepText, Sphere, Surface };
   std::string name;
   Kind kind = Kind::File;
   std::string file;       // Kind::File, resolved against the job's base directory
   std::string brep_text;  // Kind::BrepText
   Point3 center{};        // Kind::Sphere
   double radius = 0;
+  std::vector<Point3> surface_points;                   // Kind::Surface
+  std::vector<std::array<int64_t, 3>> surface_triangles;  // 0-based indices into surface_points
   Role role = Role::Material;
   int material = 0;
+  // B-rep files and text: "solids": "separate" (default) makes each solid its own input
+  // "<name>#k" in file order; "together" keeps them as one input.
+  bool solids_together = false;
+  // "materials": [m1, m2, ...]: material of each solid in file order (separate solids only;
+  // the count is checked against the file when it is read). Empty: every solid gets `material`.
+  std::vector<int> solid_materials;
 };
 
 // Criteria as the user wrote them; unset values are filled from the model size later.

@@ -24,6 +24,8 @@
 #include "mesh/Topology.h"
 #include "mesh/Writers.h"
 
+#include <TopExp_Explorer.hxx>
+
 #ifndef ORACLEMESH_VERSION
 #define ORACLEMESH_VERSION "dev"
 #endif
@@ -49,20 +51,50 @@ class PhaseClock {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-SourcePtr loadSource(const InputSpec& in) {
-  switch (in.kind) {
-    case InputSpec::Kind::File: {
-      std::string ext = std::filesystem::path(in.file).extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-      if (ext == ".stl" || ext == ".obj" || ext == ".off") return TriangleSurface::fromFile(in.file, in.name);
-      return BrepSolid::fromFile(in.file, in.name);
+// One job input as oracle entries (a B-rep file with several solids gives one entry per
+// solid), with what kind of input each entry is and the warnings of loading it.
+struct LoadedInput {
+  std::vector<OracleEntry> entries;
+  std::vector<std::string> kinds;  // per entry: "B-rep solid", "triangle surface", ...
+  std::vector<std::string> warnings;
+};
+
+LoadedInput loadInput(const InputSpec& in) {
+  LoadedInput loaded;
+  auto add = [&](SourcePtr source, int material, const std::string& kind) {
+    loaded.entries.push_back({std::move(source), in.role, material});
+    loaded.kinds.push_back(kind);
+  };
+  const bool surfaceFile = in.kind == InputSpec::Kind::File && [&] {
+    std::string ext = std::filesystem::path(in.file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext == ".stl" || ext == ".obj" || ext == ".off";
+  }();
+  if (in.kind == InputSpec::Kind::Sphere) {
+    add(std::make_shared<Sphere>(in.center, in.radius, in.name), in.material, "sphere");
+  } else if (in.kind == InputSpec::Kind::Surface) {
+    add(TriangleSurface::fromTriangles(in.surface_points, in.surface_triangles, in.name), in.material,
+        "triangle surface");
+  } else if (surfaceFile) {
+    add(TriangleSurface::fromFile(in.file, in.name), in.material, "triangle surface");
+  } else {
+    const auto grouping = in.solids_together ? BrepSolid::Grouping::Together : BrepSolid::Grouping::Separate;
+    BrepSolid::Loaded brep = in.kind == InputSpec::Kind::File ? BrepSolid::loadFile(in.file, in.name, grouping)
+                                                               : BrepSolid::loadBrepText(in.brep_text, in.name, grouping);
+    if (!in.solid_materials.empty() && in.solid_materials.size() != brep.solids.size())
+      throw InputError("input '" + in.name + "'" + (in.file.empty() ? "" : " (file '" + in.file + "')") + " has " +
+                       std::to_string(brep.solids.size()) + " solid" + (brep.solids.size() == 1 ? "" : "s") +
+                       " but 'materials' lists " + std::to_string(in.solid_materials.size()) +
+                       ": give one material per solid, in file order");
+    for (size_t i = 0; i < brep.solids.size(); ++i) {
+      int solids = 0;
+      for (TopExp_Explorer ex(brep.solids[i]->shape(), TopAbs_SOLID); ex.More(); ex.Next()) ++solids;
+      add(brep.solids[i], in.solid_materials.empty() ? in.material : in.solid_materials[i],
+          solids == 1 ? "B-rep solid" : "B-rep compound (" + std::to_string(solids) + " solids)");
     }
-    case InputSpec::Kind::BrepText:
-      return BrepSolid::fromBrepText(in.brep_text, in.name);
-    case InputSpec::Kind::Sphere:
-      return std::make_shared<Sphere>(in.center, in.radius, in.name);
+    loaded.warnings = std::move(brep.warnings);
   }
-  throw InputError("input '" + in.name + "' has an unknown kind");
+  return loaded;
 }
 
 MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallback) {
@@ -91,7 +123,10 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
 
   std::set<int> materials;
   for (const InputSpec& in : job.inputs)
-    if (in.role == Role::Material) materials.insert(in.material);
+    if (in.role == Role::Material) {
+      materials.insert(in.material);
+      materials.insert(in.solid_materials.begin(), in.solid_materials.end());
+    }
   for (const auto& [id, spec] : job.material_criteria)
     if (!materials.count(id))
       throw InputError("criteria.materials names material " + std::to_string(id) +
@@ -235,9 +270,16 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("load", 0);
   std::vector<OracleEntry> entries;
+  std::vector<std::string> entryKinds, entryInputs;
   for (size_t i = 0; i < job.inputs.size(); ++i) {
     const InputSpec& in = job.inputs[i];
-    entries.push_back({loadSource(in), in.role, in.material});
+    LoadedInput loaded = loadInput(in);
+    for (size_t k = 0; k < loaded.entries.size(); ++k) {
+      entries.push_back(std::move(loaded.entries[k]));
+      entryKinds.push_back(loaded.kinds[k]);
+      entryInputs.push_back(in.name);
+    }
+    for (std::string& w : loaded.warnings) warnings.push_back(std::move(w));
     control.report("load", double(i + 1) / job.inputs.size());
     control.checkpoint();
   }
@@ -365,11 +407,15 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   if (job.element_order == 2) report["second_order_straight_fallbacks"] = straightMidNodes;
   report["bbox_diagonal"] = diagonal;
   json materials = json::array();
-  for (const OracleEntry& e : oracle.entries())
+  for (size_t i = 0; i < oracle.entries().size(); ++i) {
+    const OracleEntry& e = oracle.entries()[i];
     materials.push_back({{"name", e.source->name()},
+                         {"input", entryInputs[i]},
+                         {"kind", entryKinds[i]},
                          {"role", e.role == Role::Cut ? "cut" : "material"},
                          {"material", e.material},
                          {"source_volume", e.source->volume()}});
+  }
   report["inputs"] = materials;
 
   control.report("write", 0);

@@ -85,7 +85,7 @@ def run(job, progress=None, base_directory=None):
         if bad:
             raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
         try:
-            text = json.dumps(job, allow_nan=False)
+            text = json.dumps(job, allow_nan=False, default=_array_as_list)
         except (TypeError, ValueError) as e:
             raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
                              "strings and numbers" % e) from None
@@ -152,6 +152,13 @@ def run_isolated(job, progress=None, base_directory=None):
                     % (how, stderr[-2000:]))
 
 
+def _array_as_list(value):
+    """numpy arrays and scalars in a job (a "surface" input's points and triangles) as JSON."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    raise TypeError("%s is not JSON-serialisable" % type(value).__name__)
+
+
 def np_load(path):
     import numpy
     return numpy.load(path, allow_pickle=False)
@@ -159,7 +166,7 @@ def np_load(path):
 
 def _with_absolute_paths(job, base):
     """The child runs elsewhere: input and output paths are made absolute first."""
-    job = json.loads(json.dumps(job))
+    job = json.loads(json.dumps(job, default=_array_as_list))
     for entry in job.get("inputs", []) if isinstance(job, dict) else []:
         if isinstance(entry, dict) and isinstance(entry.get("file"), str):
             entry["file"] = os.path.join(base, entry["file"])

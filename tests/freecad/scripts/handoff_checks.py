@@ -10,9 +10,6 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
-from tet_geometry import tet10_volumes  # noqa: E402
-
 R, PIN_H = 5.0, 40.0
 PLATE = (100.0, 60.0, 10.0)
 CUT = (80.0, 40.0, -1.0, 30.0, 30.0, 12.0)  # removes x 80..100, y 40..60 of the plate
@@ -27,17 +24,6 @@ def build(doc):
     cut = h.box(doc, "CutBox", *CUT)
     doc.recompute()
     return pin, plate, cut
-
-
-def arrays(fm):
-    import numpy as np
-    nodes = fm.Nodes  # a new dict on every access: fetch once
-    ids = sorted(nodes)
-    index = {n: i for i, n in enumerate(ids)}
-    points = np.array([tuple(nodes[n]) for n in ids])
-    vols = sorted(fm.Volumes)
-    tets = np.array([[index[n] for n in fm.getElementNodes(e)] for e in vols])
-    return points, tets, vols, index
 
 
 def check(params):
@@ -64,13 +50,9 @@ def check(params):
     report = json.loads(mesh.Report)
     out["second_order_straight_fallbacks"] = report.get("second_order_straight_fallbacks")
 
-    points, tets, vols, index = arrays(fm)
-    group_elems = {fm.getGroupName(g): set(fm.getGroupElements(g)) for g in fm.Groups}
-    # FreeCAD's order is negatively oriented: sizes are the absolute values.
-    vol = np.abs(tet10_volumes(points, tets)) if tets.shape[1] == 10 else None
-    if vol is not None:
-        out["volume"] = {name: float(sum(v for e, v in zip(vols, vol) if e in elems))
-                         for name, elems in group_elems.items()}
+    points, tets, vols, index = h.mesh_arrays(fm)
+    if tets.shape[1] == 10:
+        out["volume"] = h.group_volumes(fm)
     out["volume_expected"] = {
         "pin": math.pi * R * R * PIN_H,
         "plate": PLATE[0] * PLATE[1] * PLATE[2] - 20 * 20 * PLATE[2] - math.pi * R * R * PLATE[2],
