@@ -201,6 +201,11 @@ struct SnapResult {
   std::vector<int> vertex_entry;  // entry whose boundary the vertex was put on, -1 interior
   double max_move = 0;
   int64_t moved = 0;
+  // Vertices left where Mesh_3 put them because the move would have inverted a flat tet
+  // (slivers with all four corners on one face, where feature curves meet at small angles).
+  int64_t kept_off_surface = 0;
+  double max_distance_kept = 0;
+  Point3 worst_kept{};
 };
 
 BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveOrigin& origin, const Point3& p) {
@@ -211,10 +216,24 @@ BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveO
   return solid->projectOnEdge(p, origin.edge);
 }
 
+// Whether moving vertex v to `target` would turn one of its (positively oriented) tets
+// inside out or flat.
+bool invertsAnIncidentTet(const TetMesh& mesh, const std::vector<int64_t>& tets, int64_t v, const Point3& target) {
+  for (int64_t t : tets) {
+    std::array<Point3, 4> corners;
+    for (int k = 0; k < 4; ++k) corners[k] = mesh.tets[t][k] == v ? target : mesh.points[mesh.tets[t][k]];
+    if (tetVolume(corners[0], corners[1], corners[2], corners[3]) <= 0) return true;
+  }
+  return false;
+}
+
 SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
                                 const std::unordered_map<int, CurveOrigin>& origins, const RunControl& control) {
   SnapResult r;
   r.vertex_entry.assign(mesh.points.size(), -1);
+  std::vector<std::vector<int64_t>> tetsOfVertex(mesh.points.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) tetsOfVertex[mesh.tets[t][k]].push_back(static_cast<int64_t>(t));
   std::vector<char> onBoundary(mesh.points.size(), 0);
   for (const BoundaryTriangle& t : mesh.boundary)
     for (int64_t v : t.v) onBoundary[v] = 1;
@@ -234,9 +253,17 @@ SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
     r.vertex_entry[v] = entry;
     if (mesh.vertex_dimension[v] == 0) continue;  // corners are exact curve ends already
     if (mesh.vertex_dimension[v] == 3) mesh.vertex_dimension[v] = 2;
-    if (!std::isfinite(q.distance)) continue;
+    if (!std::isfinite(q.distance) || q.distance == 0) continue;
+    if (invertsAnIncidentTet(mesh, tetsOfVertex[v], static_cast<int64_t>(v), q.point)) {
+      ++r.kept_off_surface;
+      if (q.distance > r.max_distance_kept) {
+        r.max_distance_kept = q.distance;
+        r.worst_kept = p;
+      }
+      continue;
+    }
     r.max_move = std::max(r.max_move, q.distance);
-    if (q.distance > 0) ++r.moved;
+    ++r.moved;
     p = q.point;
   }
   return r;
@@ -329,6 +356,14 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   mesh.boundary = extractBoundary(mesh);
   const SnapResult snap = snapBoundaryVertices(mesh, oracle, origins, control);
   clock.finish("snap");
+  if (snap.kept_off_surface > 0) {
+    std::ostringstream message;
+    message << snap.kept_off_surface << " boundary node(s) stay up to " << snap.max_distance_kept
+            << " from the CAD faces (worst near (" << snap.worst_kept[0] << ", " << snap.worst_kept[1] << ", "
+            << snap.worst_kept[2] << ")): putting them on the faces would invert flat elements; FEM constraints "
+               "on those faces may miss them (a finer edge_size near small input angles helps)";
+    warnings.push_back(message.str());
+  }
 
   int64_t straightMidNodes = 0;
   if (job.element_order == 2) {
@@ -402,7 +437,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report["seeds_on_boundary"] = stats.initial_points;
   report["boundary_snap"] = {{"max_move", snap.max_move},
                              {"max_move_relative", diagonal > 0 ? snap.max_move / diagonal : 0},
-                             {"vertices_moved", snap.moved}};
+                             {"vertices_moved", snap.moved},
+                             {"vertices_kept_off_surface", snap.kept_off_surface},
+                             {"max_distance_kept_off_surface", snap.max_distance_kept}};
   report["element_order"] = job.element_order;
   if (job.element_order == 2) report["second_order_straight_fallbacks"] = straightMidNodes;
   report["bbox_diagonal"] = diagonal;
