@@ -13,6 +13,7 @@ struct FeaturePolyline {
   int edge = -1;               // B-rep edge index within that source (-1: not a B-rep edge)
   int junction = -1;           // index into JunctionCurves when the polyline runs along a
                                // junction curve (source and edge are then -1)
+  int user = -1;               // index into the job's features.polylines for a user polyline
 };
 
 struct FeatureGraph {

@@ -188,6 +188,37 @@ JobSpec JobSpec::fromJsonText(const std::string& text, const std::string& baseDi
   return fromJson(job, baseDirectory);
 }
 
+// features.polylines: [[[x, y, z], [x, y, z], ...], ...] or [{"points": [...]}, ...].
+static std::vector<std::vector<Point3>> parsePolylines(const json& value) {
+  const std::string usage =
+      ": give a list of polylines, each a list of at least two [x, y, z] points in model units "
+      "(or {\"points\": [...]})";
+  if (!value.is_array()) throw InputError("features.polylines" + usage);
+  std::vector<std::vector<Point3>> polylines;
+  for (size_t i = 0; i < value.size(); ++i) {
+    const std::string where = "features.polylines[" + std::to_string(i) + "]";
+    const json& item = value[i].is_object() && value[i].contains("points") ? value[i]["points"] : value[i];
+    if (value[i].is_object()) rejectUnknownKeys(value[i], {"points"}, where);
+    if (!item.is_array() || item.size() < 2) throw InputError(where + usage);
+    std::vector<Point3> points;
+    for (size_t k = 0; k < item.size(); ++k) {
+      const json& p = item[k];
+      Point3 q{};
+      bool ok = p.is_array() && p.size() == 3;
+      for (int c = 0; ok && c < 3; ++c) {
+        ok = p[c].is_number() && std::isfinite(p[c].get<double>());
+        if (ok) q[c] = p[c].get<double>();
+      }
+      if (!ok) throw InputError(where + " point " + std::to_string(k) + " = " + p.dump() + " is not [x, y, z] with finite numbers");
+      if (!points.empty() && q == points.back())
+        throw InputError(where + " repeats point " + std::to_string(k) + " " + p.dump() + ": remove the duplicate");
+      points.push_back(q);
+    }
+    polylines.push_back(std::move(points));
+  }
+  return polylines;
+}
+
 JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
@@ -235,8 +266,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
         if (!f["junctions"].is_boolean()) throw InputError("features.junctions must be true or false");
         spec.junctions = f["junctions"].get<bool>();
       }
-      if (f.contains("polylines") && !f["polylines"].empty())
-        throw InputError("features.polylines (user polylines) are not supported yet: remove them from the job");
+      if (f.contains("polylines")) spec.user_polylines = parsePolylines(f["polylines"]);
     } else {
       throw InputError("'features' must be false or an object like {\"sharp_angle_deg\": 30}");
     }

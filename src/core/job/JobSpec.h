@@ -47,6 +47,9 @@ struct JobSpec {
   bool features = true;
   double sharp_angle_deg = 30;
   bool junctions = true;  // curves where two inputs' boundaries cross become features
+  // features.polylines: the user's own constrained segments (e.g. load-patch outlines drawn
+  // on a face, a crack front). Each has at least two distinct consecutive points.
+  std::vector<std::vector<Point3>> user_polylines;
   std::string engine = "cgal";
   int element_order = 2;
   bool perturb = true;

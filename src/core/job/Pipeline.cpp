@@ -19,6 +19,7 @@
 #include "features/CoincidentFeatures.h"
 #include "features/InputAngles.h"
 #include "features/JunctionCurves.h"
+#include "features/UserPolylines.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
 #include "mesh/Topology.h"
@@ -158,6 +159,7 @@ struct CurveOrigin {
   int edge = -1;
   int junction = -1;                               // junction curve index, then entry = edge = -1
   std::shared_ptr<const JunctionCurves> junctions;  // owns the junction edges for the run
+  const std::vector<Point3>* user = nullptr;        // the job's polyline for a user polyline
 };
 
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
@@ -184,8 +186,15 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
   }
   clipped = removeCoincidentFeatures(clipped, oracle);
+  if (!job.user_polylines.empty()) {
+    const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize);
+    clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
+    // Chords of curved CAD edges are up to 2 % of the edge size off the curve (CurveSampling).
+    clipped = splitAtCrossings(clipped, 0.025 * edgeSize);
+  }
   for (const FeaturePolyline& pl : clipped.polylines)
-    origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr};
+    origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
+                         pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr};
   return clipped;
 }
 
@@ -210,6 +219,10 @@ struct SnapResult {
 
 BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveOrigin& origin, const Point3& p) {
   if (origin.junction >= 0 && origin.junctions) return origin.junctions->projectOnCurve(origin.junction, p);
+  if (origin.user) {
+    const Point3 q = nearestOnPolyline(*origin.user, p);
+    return {q, -1, distance(p, q)};
+  }
   if (origin.entry < 0 || origin.edge < 0) return {};
   const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[origin.entry].source.get());
   if (!solid) return {};

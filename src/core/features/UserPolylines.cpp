@@ -1,0 +1,140 @@
+#include "features/UserPolylines.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "Error.h"
+
+namespace oraclemesh {
+
+namespace {
+
+std::string where(size_t polyline, const Point3& p) {
+  std::ostringstream out;
+  out << "features.polylines[" << polyline << "] leaves the meshed domain near (" << p[0] << ", " << p[1] << ", "
+      << p[2] << "): draw it inside or on the parts (not in a cut region or outside every input)";
+  return out.str();
+}
+
+// Parameters (s on segment a->b, t on c->d) of the closest points of two segments.
+void closestParameters(const Point3& a, const Point3& b, const Point3& c, const Point3& d, double& s, double& t) {
+  const Point3 u = b - a, v = d - c, w = a - c;
+  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), uw = dot(u, w), vw = dot(v, w);
+  const double denominator = uu * vv - uv * uv;
+  s = denominator > 1e-14 * uu * vv ? std::clamp((uv * vw - vv * uw) / denominator, 0.0, 1.0) : 0.0;
+  t = vv > 0 ? std::clamp((uv * s + vw) / vv, 0.0, 1.0) : 0.0;
+  // With t clamped, s must be recomputed for the true closest pair.
+  s = uu > 0 ? std::clamp((uv * t - uw) / uu, 0.0, 1.0) : 0.0;
+}
+
+}  // namespace
+
+FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polylines, const HierarchicalOracle& oracle,
+                                  double maxSegmentLength) {
+  FeatureGraph graph;
+  const double onBoundary = 1e-6 * oracle.diagonal();
+  for (size_t i = 0; i < polylines.size(); ++i) {
+    const std::vector<Point3>& in = polylines[i];
+    // Each given segment is a polyline of its own: Mesh_3 keeps polyline ends as vertices but
+    // may cut across a kink in the middle of a polyline.
+    for (size_t k = 0; k + 1 < in.size(); ++k) {
+      FeaturePolyline out;
+      out.user = static_cast<int>(i);
+      const int pieces = std::max(1, static_cast<int>(std::ceil(distance(in[k], in[k + 1]) / maxSegmentLength)));
+      for (int j = 0; j <= pieces; ++j)
+        out.points.push_back(j == pieces ? in[k + 1] : in[k] + (double(j) / pieces) * (in[k + 1] - in[k]));
+      // Every vertex and segment middle inside the composite domain or on its boundary.
+      for (size_t m = 0; m < out.points.size(); ++m) {
+        std::vector<Point3> probes{out.points[m]};
+        if (m + 1 < out.points.size()) probes.push_back(0.5 * (out.points[m] + out.points[m + 1]));
+        for (const Point3& p : probes)
+          if (oracle.label(p) == 0 && oracle.projectOnBoundary(p).distance > onBoundary) throw InputError(where(i, p));
+      }
+      graph.polylines.push_back(std::move(out));
+    }
+  }
+  return graph;
+}
+
+FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance) {
+  // Split parameters per polyline: segment index -> points to insert on it.
+  std::vector<std::map<size_t, std::vector<Point3>>> inserts(graph.polylines.size());
+  for (size_t i = 0; i < graph.polylines.size(); ++i) {
+    const FeaturePolyline& user = graph.polylines[i];
+    if (user.user < 0) continue;
+    for (size_t j = 0; j < graph.polylines.size(); ++j) {
+      const FeaturePolyline& other = graph.polylines[j];
+      if (j == i || (other.user >= 0 && j < i)) continue;  // user-user pairs once
+      for (size_t a = 0; a + 1 < user.points.size(); ++a)
+        for (size_t b = 0; b + 1 < other.points.size(); ++b) {
+          double s, t;
+          closestParameters(user.points[a], user.points[a + 1], other.points[b], other.points[b + 1], s, t);
+          const Point3 onUser = user.points[a] + s * (user.points[a + 1] - user.points[a]);
+          const Point3 onOther = other.points[b] + t * (other.points[b + 1] - other.points[b]);
+          if (distance(onUser, onOther) > tolerance) continue;
+          const Point3 meeting = other.user >= 0 ? 0.5 * (onUser + onOther) : onOther;
+          inserts[i][a].push_back(meeting);
+          inserts[j][b].push_back(meeting);
+        }
+    }
+  }
+  FeatureGraph result;
+  for (size_t i = 0; i < graph.polylines.size(); ++i) {
+    const FeaturePolyline& pl = graph.polylines[i];
+    // Rebuild the point list with the meeting points, remembering which points are cuts.
+    std::vector<Point3> points;
+    std::vector<char> cut;
+    auto add = [&](const Point3& p, bool isCut, double snap) {
+      if (!points.empty() && distance(points.back(), p) <= snap) {
+        if (isCut) {  // a meeting point replaces the vertex it falls on, so both curves share it
+          points.back() = p;
+          cut.back() = 1;
+        }
+        return;
+      }
+      points.push_back(p);
+      cut.push_back(isCut);
+    };
+    for (size_t k = 0; k < pl.points.size(); ++k) {
+      add(pl.points[k], false, tolerance);
+      auto it = inserts[i].find(k);
+      if (it == inserts[i].end() || k + 1 == pl.points.size()) continue;
+      std::vector<Point3> along = it->second;
+      const Point3 start = pl.points[k];
+      std::sort(along.begin(), along.end(),
+                [&](const Point3& x, const Point3& y) { return distance(start, x) < distance(start, y); });
+      for (const Point3& p : along) add(p, true, tolerance);
+    }
+    // Break the polyline at every meeting point: pieces meet only at their ends.
+    FeaturePolyline piece = pl;
+    piece.points.clear();
+    for (size_t k = 0; k < points.size(); ++k) {
+      piece.points.push_back(points[k]);
+      const bool end = k + 1 == points.size();
+      if ((cut[k] && k > 0 && !end) || end) {
+        if (piece.points.size() >= 2) {
+          piece.curve = static_cast<int>(result.polylines.size());
+          result.polylines.push_back(piece);
+        }
+        piece.points = {points[k]};
+      }
+    }
+  }
+  return result;
+}
+
+Point3 nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p) {
+  Point3 best = polyline.front();
+  for (size_t k = 0; k + 1 < polyline.size(); ++k) {
+    const Point3 u = polyline[k + 1] - polyline[k];
+    const double uu = dot(u, u);
+    const double t = uu > 0 ? std::clamp(dot(p - polyline[k], u) / uu, 0.0, 1.0) : 0.0;
+    const Point3 q = polyline[k] + t * u;
+    if (distance(p, q) < distance(p, best)) best = q;
+  }
+  return best;
+}
+
+}  // namespace oraclemesh

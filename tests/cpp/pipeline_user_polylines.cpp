@@ -1,0 +1,106 @@
+// User polylines (job features.polylines): kept as chains of mesh edges, on faces and inside
+// the volume, split where they cross each other and the box's sharp edges.
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "features/UserPolylines.h"
+#include "job/Pipeline.h"
+#include "mesh_checks.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+double distanceToSegment(const Point3& p, const Point3& a, const Point3& b) {
+  return distance(p, nearestOnPolyline({a, b}, p));
+}
+
+// Length of the segment a-b covered by mesh feature edges lying on it.
+double coveredLength(const TetMesh& mesh, const Point3& a, const Point3& b, double tolerance) {
+  double length = 0;
+  for (const auto& e : mesh.feature_edges) {
+    const Point3& p = mesh.points[e[0]];
+    const Point3& q = mesh.points[e[1]];
+    if (distanceToSegment(p, a, b) <= tolerance && distanceToSegment(q, a, b) <= tolerance) length += distance(p, q);
+  }
+  return length;
+}
+
+TEST(UserPolylines, ChainsOfMeshEdgesOnFacesAndInside) {
+  const std::vector<std::vector<Point3>> lines = {
+      {{0, 20, 20}, {40, 20, 20}},                 // across the top face, sharp edge to sharp edge
+      {{20, 0, 20}, {20, 40, 20}},                 // crosses the first at (20, 20, 20)
+      {{10, 10, 5}, {30, 30, 5}, {30, 10, 12}}};   // inside the block
+  nlohmann::json polylines = nlohmann::json::array();
+  for (const auto& line : lines) polylines.push_back(line);
+  const nlohmann::json job = {
+      {"inputs", {{{"name", "Block"}, {"brep", test::brepText(BRepPrimAPI_MakeBox(40, 40, 20).Shape())}, {"material", 1}}}},
+      {"criteria", {{"default", {{"cell_size", 6}, {"facet_size", 6}, {"facet_distance", 1}, {"edge_size", 3}}}}},
+      {"features", {{"polylines", polylines}}},
+      {"element_order", 1},
+      {"seed", 0}};
+  const JobResult result = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const TetMesh& mesh = result.mesh;
+  const double tolerance = 1e-9 * result.report.at("bbox_diagonal").get<double>();
+
+  for (const auto& line : lines)
+    for (size_t k = 0; k + 1 < line.size(); ++k)
+      EXPECT_NEAR(coveredLength(mesh, line[k], line[k + 1], tolerance), distance(line[k], line[k + 1]), 1e-9)
+          << "segment " << k << " of the polyline from (" << line[0][0] << ", " << line[0][1] << ", " << line[0][2] << ")";
+  // The crossing and the T-junctions with the block's edges are mesh vertices.
+  for (const Point3& meeting : std::vector<Point3>{{20, 20, 20}, {0, 20, 20}, {40, 20, 20}, {20, 0, 20}, {30, 30, 5}}) {
+    double nearest = 1e9;
+    for (const Point3& p : mesh.points) nearest = std::min(nearest, distance(p, meeting));
+    EXPECT_LE(nearest, tolerance) << meeting[0] << ", " << meeting[1] << ", " << meeting[2];
+  }
+  EXPECT_NEAR(test::volumePerMaterial(mesh).at(1), 40 * 40 * 20, 1e-6 * 40 * 40 * 20);
+  EXPECT_TRUE(result.report.at("conformity").at("ok").get<bool>());
+}
+
+TEST(UserPolylines, LeavingTheDomainIsAnErrorNamingThePolyline) {
+  const nlohmann::json job = {
+      {"inputs", {{{"name", "Block"}, {"brep", test::brepText(BRepPrimAPI_MakeBox(40, 40, 20).Shape())}, {"material", 1}}}},
+      {"features", {{"polylines", {{{10, 10, 10}, {10, 10, 30}}}}}}};
+  try {
+    runJob(JobSpec::fromJson(job, ""), RunControl());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("features.polylines[0] leaves the meshed domain"), std::string::npos) << e.what();
+  }
+}
+
+TEST(UserPolylines, MalformedPolylinesAreRefusedByTheJob) {
+  for (const nlohmann::json& bad : {nlohmann::json{{{0, 0, 0}}}, nlohmann::json{{{0, 0, 0}, {0, 0, 0}}},
+                                    nlohmann::json{{{0, 0}, {1, 1}}}, nlohmann::json{"line"}}) {
+    const nlohmann::json job = {{"inputs", {{{"name", "Ball"}, {"sphere", {{"center", {0, 0, 0}}, {"radius", 1}}}}}},
+                                {"features", {{"polylines", bad}}}};
+    EXPECT_THROW(JobSpec::fromJson(job, ""), InputError) << bad.dump();
+  }
+}
+
+TEST(SplitAtCrossings, CrossingBecomesASharedEndPoint) {
+  FeatureGraph graph;
+  FeaturePolyline edge;
+  edge.points = {{0, 0, 0}, {10, 0, 0}};
+  edge.source = 0;
+  edge.edge = 3;
+  FeaturePolyline user;
+  user.points = {{5, -5, 0}, {5, 5, 0}};
+  user.user = 0;
+  graph.polylines = {edge, user};
+  const FeatureGraph split = splitAtCrossings(graph, 1e-9);
+  ASSERT_EQ(split.polylines.size(), 4u);
+  int meetingEnds = 0;
+  for (const FeaturePolyline& pl : split.polylines) {
+    ASSERT_EQ(pl.points.size(), 2u);
+    for (const Point3& p : {pl.points.front(), pl.points.back()}) meetingEnds += p == Point3{5, 0, 0};
+  }
+  EXPECT_EQ(meetingEnds, 4);
+  EXPECT_EQ(split.polylines[0].edge, 3);  // pieces keep their origin
+  EXPECT_EQ(split.polylines[3].user, 0);
+}
+
+}  // namespace
+}  // namespace oraclemesh
