@@ -14,15 +14,20 @@
 namespace oraclemesh {
 
 struct InputSpec {
-  enum class Kind { File, BrepText, Sphere };
+  enum class Kind { File, BrepText, Sphere, Image };
   std::string name;
   Kind kind = Kind::File;
   std::string file;       // Kind::File, resolved against the job's base directory
   std::string brep_text;  // Kind::BrepText
   Point3 center{};        // Kind::Sphere
   double radius = 0;
+  std::string image;                  // Kind::Image: NRRD file, resolved like `file`
+  std::map<int, int> image_materials;  // Kind::Image: label -> material id
   Role role = Role::Material;
-  int material = 0;
+  int material = 0;                    // not Kind::Image
+
+  // The material ids this input can give (the image's mapped materials, or `material`).
+  std::vector<int> materials() const;
 };
 
 // Criteria as the user wrote them; unset values are filled from the model size later.

@@ -12,6 +12,8 @@
 #include "Error.h"
 #include "cgal/Mesh3Engine.h"
 #include "domain/BrepSolid.h"
+#include "domain/LabeledImage.h"
+#include "domain/NrrdReader.h"
 #include "domain/Sphere.h"
 #include "domain/TriangleSurface.h"
 #include "features/BrepSharpEdges.h"
@@ -47,6 +49,20 @@ class PhaseClock {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+SourcePtr loadSource(const InputSpec& in);
+
+// The oracle entries of one input: one, or for an image one per mapped label. The regions of
+// one image are disjoint, so their order among themselves does not matter; together they
+// take the image's place in the priority list.
+std::vector<OracleEntry> loadEntries(const InputSpec& in) {
+  if (in.kind != InputSpec::Kind::Image) return {{loadSource(in), in.role, in.material}};
+  std::vector<OracleEntry> entries;
+  const auto image = readNrrdLabels(in.image, in.name);
+  for (auto& [region, material] : makeImageRegions(image, in.image_materials, in.name))
+    entries.push_back({region, Role::Material, material});
+  return entries;
+}
+
 SourcePtr loadSource(const InputSpec& in) {
   switch (in.kind) {
     case InputSpec::Kind::File: {
@@ -59,6 +75,8 @@ SourcePtr loadSource(const InputSpec& in) {
       return BrepSolid::fromBrepText(in.brep_text, in.name);
     case InputSpec::Kind::Sphere:
       return std::make_shared<Sphere>(in.center, in.radius, in.name);
+    case InputSpec::Kind::Image:
+      break;  // several sources: loadEntries
   }
   throw InputError("input '" + in.name + "' has an unknown kind");
 }
@@ -89,7 +107,7 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
 
   std::set<int> materials;
   for (const InputSpec& in : job.inputs)
-    if (in.role == Role::Material) materials.insert(in.material);
+    for (int id : in.materials()) materials.insert(id);
   for (const auto& [id, spec] : job.material_criteria)
     if (!materials.count(id))
       throw InputError("criteria.materials names material " + std::to_string(id) +
@@ -234,8 +252,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   control.report("load", 0);
   std::vector<OracleEntry> entries;
   for (size_t i = 0; i < job.inputs.size(); ++i) {
-    const InputSpec& in = job.inputs[i];
-    entries.push_back({loadSource(in), in.role, in.material});
+    for (OracleEntry& entry : loadEntries(job.inputs[i])) entries.push_back(std::move(entry));
     control.report("load", double(i + 1) / job.inputs.size());
     control.checkpoint();
   }
