@@ -288,10 +288,10 @@ TEST(ImageLabelRegion, BoundarySamplesSeedEveryComponent) {
 TEST(ImageLabelRegion, MappedLabelsMustOccur) {
   BallImage ball;
   std::string message = inputErrorOf([&] { makeImageRegions(ball.image, {{1, 1}, {5, 2}}, "scan"); });
-  EXPECT_NE(message.find("label 5 of its 'materials' map does not occur in test ball"), std::string::npos) << message;
+  EXPECT_NE(message.find("label 5 of the 'materials' map of input 'scan' does not occur in test ball"), std::string::npos) << message;
   EXPECT_NE(message.find("labels present: 1, 2"), std::string::npos) << message;
   message = inputErrorOf([&] { makeImageRegions(ball.image, {{4, 1}, {5, 2}}, "scan"); });
-  EXPECT_NE(message.find("no voxel of test ball has a label of its 'materials' map (4, 5)"), std::string::npos)
+  EXPECT_NE(message.find("no voxel of test ball has a label of the 'materials' map (4, 5)"), std::string::npos)
       << message;
   message = inputErrorOf([] {
     LabeledImage({2, 2, 2}, {1, 0, 1}, {0, 0, 0}, std::vector<int32_t>(8, 1), "flat image");

@@ -359,13 +359,11 @@ std::vector<std::pair<std::shared_ptr<const ImageLabelRegion>, int>> makeImageRe
     for (int32_t l : missing) list += (list.empty() ? "" : ", ") + std::to_string(l);
     const std::string present = labelList(counts);
     if (missing.size() == materialOfLabel.size())
-      throw InputError("input '" + inputName + "': no voxel of " + image->description() +
-                       " has a label of its 'materials' map (" + list + "); the labels present are " + present +
-                       ": map those labels to materials");
-    throw InputError("input '" + inputName + "': label" + (missing.size() > 1 ? "s " : " ") + list +
-                     " of its 'materials' map " + (missing.size() > 1 ? "do" : "does") + " not occur in " +
-                     image->description() + " (labels present: " + present +
-                     "): fix the label or remove it from 'materials'");
+      throw InputError("no voxel of " + image->description() + " has a label of the 'materials' map (" + list +
+                       "); the labels present are " + present + ": map those labels to materials");
+    throw InputError(std::string("label") + (missing.size() > 1 ? "s " : " ") + list + " of the 'materials' map of input '" +
+                     inputName + "' " + (missing.size() > 1 ? "do" : "does") + " not occur in " + image->description() +
+                     " (labels present: " + present + "): fix the label or remove it from 'materials'");
   }
   std::vector<std::pair<std::shared_ptr<const ImageLabelRegion>, int>> regions;
   for (const auto& [label, material] : materialOfLabel)

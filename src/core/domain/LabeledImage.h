@@ -33,8 +33,8 @@ namespace oraclemesh {
 class LabeledImage {
  public:
   // Voxel (i, j, k) has its centre at origin + (i sx, j sy, k sz); labels are stored with i
-  // fastest (index i + nx (j + ny k)). `description` names the image in messages ("input
-  // 'scan' (file labels.nrrd)"). InputError on a non-positive spacing or a size mismatch.
+  // fastest (index i + nx (j + ny k)). `description` names the image in messages ("the image
+  // 'labels.nrrd' of input 'scan'"). InputError on a non-positive spacing or a size mismatch.
   LabeledImage(std::array<int64_t, 3> size, Point3 spacing, Point3 origin, std::vector<int32_t> labels,
                std::string description);
 

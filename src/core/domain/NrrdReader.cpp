@@ -49,7 +49,7 @@ class NrrdFile {
   [[noreturn]] void fail(const std::string& problem, const std::string& fix) const {
     throw InputError("input '" + input_ + "': " + problem + " in '" + path_ + "': " + fix);
   }
-  std::string describe() const { return "input '" + input_ + "' (file '" + path_ + "')"; }
+  std::string describe() const { return "the image '" + path_ + "' of input '" + input_ + "'"; }
 
   static std::string readWhole(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
