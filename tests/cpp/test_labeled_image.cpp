@@ -126,6 +126,10 @@ TEST(NrrdReader, BadFilesNameTheFileAndTheFix) {
       {"lost.nhdr", header + "type: uchar\nencoding: raw\ndata file: lost.raw\n", "lost.raw' does not exist",
        "next to the header"},
       {"list.nhdr", header + "type: uchar\nencoding: raw\ndata file: LIST\n", "several files", "one file"},
+      {"skip.nrrd", header + "type: uchar\nencoding: raw\nbyte skip: -5\n\n12345678", "'byte skip: -5' is not a valid count",
+       "whole number of bytes"},
+      {"lines.nrrd", header + "type: uchar\nencoding: raw\nline skip: \n\n12345678", "'line skip: ' is not a valid",
+       "whole number of lines"},
   };
   for (const Case& c : cases) {
     const auto path = scratch(c.name);

@@ -243,11 +243,17 @@ class NrrdFile {
 
   std::vector<int32_t> decode(std::string encoded) {
     const int64_t count = size_[0] * size_[1] * size_[2];
-    int64_t lineSkip = 0, byteSkip = 0;
-    if (fields_.count("line skip")) lineSkip = static_cast<int64_t>(numbers(fields_["line skip"], "line skip").at(0));
-    if (fields_.count("byte skip") || fields_.count("byteskip"))
-      byteSkip = static_cast<int64_t>(
-          numbers(fields_.count("byte skip") ? fields_["byte skip"] : fields_["byteskip"], "byte skip").at(0));
+    auto skip = [&](const char* field, const char* alias, int64_t lowest) -> int64_t {
+      const std::string key = fields_.count(field) ? field : alias;
+      if (!fields_.count(key)) return 0;
+      const std::vector<double> v = numbers(fields_[key], key);
+      if (v.size() != 1 || v[0] != std::floor(v[0]) || v[0] < static_cast<double>(lowest))
+        fail("'" + key + ": " + fields_[key] + "' is not a valid count",
+             std::string("give a whole number of ") + (lowest < 0 ? "bytes (or -1)" : "lines"));
+      return static_cast<int64_t>(v[0]);
+    };
+    const int64_t lineSkip = skip("line skip", "lineskip", 0);
+    int64_t byteSkip = skip("byte skip", "byteskip", -1);
     for (int64_t l = 0; l < lineSkip; ++l) {
       const size_t nl = encoded.find('\n');
       if (nl == std::string::npos) fail("'line skip' skips past the end of the data", "fix 'line skip'");
@@ -281,7 +287,7 @@ class NrrdFile {
     std::string raw;
     if (encoding_ == "raw") {
       if (byteSkip == -1) byteSkip = std::max<int64_t>(0, static_cast<int64_t>(encoded.size()) - bytes);
-      raw = encoded.substr(std::min<size_t>(encoded.size(), static_cast<size_t>(std::max<int64_t>(byteSkip, 0))));
+      raw = encoded.substr(std::min<size_t>(encoded.size(), static_cast<size_t>(byteSkip)));
     } else {
       if (byteSkip < 0) fail("'byte skip: -1' is only defined for raw data", "remove it or save the data raw");
       raw = inflateGzip(encoded);
