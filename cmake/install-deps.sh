@@ -11,7 +11,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev
-  nlohmann-json3-dev libgtest-dev
+  nlohmann-json3-dev libgtest-dev zlib1g-dev
   # Python module (built for the system interpreter FreeCAD embeds)
   python3-dev pybind11-dev python3-numpy python3-pytest python3-meshio
   # FreeCAD FEM and its solver

@@ -160,7 +160,7 @@ TEST(InputKinds, PerSolidKeysAreCheckedAgainstTheFile) {
       {{{"name", "pair"}, {"brep", twoBoxes}, {"material", 1}, {"materials", {1, 2}}}, "both 'material' and 'materials'"},
       {{{"name", "pair"}, {"brep", twoBoxes}, {"solids", "apart"}}, "'solids' must be \"separate\""},
       {{{"name", "pair"}, {"brep", twoBoxes}, {"solids", "together"}, {"materials", {1, 2}}},
-       "needs a STEP, IGES or BREP input with \"solids\": \"separate\""},
+       "belongs to STEP, IGES or BREP inputs with \"solids\": \"separate\""},
       {{{"name", "pair"}, {"brep", twoBoxes}, {"materials", {1, 0}}}, "positive integer ids"},
   };
   for (const auto& [input, expected] : cases) {

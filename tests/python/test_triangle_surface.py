@@ -203,7 +203,7 @@ def test_broken_surface_in_the_job_names_the_defect(defect, words):
 
 @pytest.mark.parametrize("keys, words", [
     ({"solids": "together"}, ["'solids' applies to STEP, IGES and BREP inputs only"]),
-    ({"materials": [1, 2]}, ["'materials' (one per solid) needs"]),
+    ({"materials": [1, 2]}, ["'materials' belongs to STEP, IGES or BREP inputs"]),
 ])
 def test_solid_keys_are_refused_on_surfaces(keys, words):
     points, tris = icosphere(subdivisions=1)

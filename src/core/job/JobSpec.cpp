@@ -94,17 +94,29 @@ void parseSurface(const json& surface, const std::string& label, InputSpec& s) {
   }
 }
 
+// A positive integer written as a JSON object key ("1"); 0 when it is not one.
+int positiveIntegerKey(const std::string& key) {
+  try {
+    size_t used = 0;
+    const int id = std::stoi(key, &used);
+    return used == key.size() && id > 0 ? id : 0;
+  } catch (...) {
+    return 0;
+  }
+}
+
 InputSpec parseInput(const json& in, size_t index, const std::string& base) {
   const std::string where = "inputs[" + std::to_string(index) + "]";
   if (!in.is_object()) throw InputError(where + " must be an object like {\"name\": \"pin\", \"file\": \"pin.step\", \"material\": 1}");
-  rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "surface", "role", "material", "materials", "solids"}, where);
+  rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "surface", "image", "role", "material", "materials", "solids"},
+                    where);
   InputSpec s;
   s.name = in.value("name", std::string("input ") + std::to_string(index + 1));
   const std::string label = "input '" + s.name + "'";
-  const int kinds =
-      int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere")) + int(in.contains("surface"));
+  const int kinds = int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere")) +
+                    int(in.contains("surface")) + int(in.contains("image"));
   if (kinds != 1)
-    throw InputError(label + " must have exactly one of 'file', 'brep', 'sphere' or 'surface' (it has " +
+    throw InputError(label + " must have exactly one of 'file', 'brep', 'sphere', 'surface' or 'image' (it has " +
                      std::to_string(kinds) + ")");
   if (in.contains("file")) {
     if (!in["file"].is_string() || in["file"].get<std::string>().empty())
@@ -118,6 +130,31 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     s.brep_text = in["brep"].get<std::string>();
   } else if (in.contains("surface")) {
     parseSurface(in["surface"], label, s);
+  } else if (in.contains("image")) {
+    if (!in["image"].is_string() || in["image"].get<std::string>().empty())
+      throw InputError(label + ": 'image' must be the path of a NRRD label image (.nrrd/.nhdr); from Python it may also "
+                       "be {\"labels\": array, \"spacing\": [sx, sy, sz], \"origin\": [x, y, z]}");
+    s.kind = InputSpec::Kind::Image;
+    s.image = resolvePath(in["image"].get<std::string>(), base);
+    if (in.contains("material"))
+      throw InputError(label + " is an image: give 'materials' (label -> material, e.g. {\"1\": 2, \"2\": 4}) instead of 'material'");
+    if (in.value("role", std::string("material")) != "material")
+      throw InputError(label + ": image inputs can only have role 'material'; cut with another input instead");
+    const json& m = in.contains("materials") ? in["materials"] : json();
+    if (!m.is_object() || m.empty())
+      throw InputError(label + " is an image and needs 'materials', a map from its labels to material ids, "
+                       "e.g. {\"1\": 2, \"2\": 4} (label 0 is background)");
+    for (const auto& [key, value] : m.items()) {
+      const int imageLabel = positiveIntegerKey(key);
+      if (imageLabel <= 0)
+        throw InputError(label + ": 'materials' key '" + key + "' is not an image label: use positive integer labels as keys "
+                         "(label 0 is background and is never meshed)");
+      if (!value.is_number_integer() || value.get<int>() <= 0)
+        throw InputError(label + ": 'materials' maps label " + key + " to " + value.dump() +
+                         ": material ids must be positive integers (1, 2, ...)");
+      s.image_materials[imageLabel] = value.get<int>();
+    }
+    return s;
   } else {
     const json& sp = in["sphere"];
     if (!sp.is_object() || !sp.contains("center") || !sp.contains("radius") || !sp["center"].is_array() || sp["center"].size() != 3)
@@ -155,8 +192,9 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
         throw InputError(label + " has both 'material' and 'materials': give one material for all solids, or a list "
                          "with one per solid");
       if (!brep || s.solids_together)
-        throw InputError(label + ": 'materials' (one per solid) needs a STEP, IGES or BREP input with \"solids\": "
-                         "\"separate\"; use 'material' for a single input");
+        throw InputError(label + ": 'materials' belongs to STEP, IGES or BREP inputs with \"solids\": \"separate\" (a list, "
+                         "one material per solid) and to 'image' inputs (a map from labels to materials); use 'material' "
+                         "for this input");
       const json& list = in["materials"];
       if (!list.is_array() || list.empty())
         throw InputError(label + ": 'materials' must be a list of material ids, one per solid in file order, e.g. [1, 2, 2]");
@@ -177,6 +215,17 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
 }
 
 }  // namespace
+
+std::vector<int> InputSpec::materials() const {
+  if (kind == Kind::Image) {
+    std::vector<int> ids;
+    for (const auto& [imageLabel, material] : image_materials) ids.push_back(material);
+    return ids;
+  }
+  if (role != Role::Material) return {};
+  if (!solid_materials.empty()) return solid_materials;
+  return {material};
+}
 
 JobSpec JobSpec::fromJsonText(const std::string& text, const std::string& baseDirectory) {
   json job;
@@ -239,13 +288,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     if (c.contains("materials")) {
       if (!c["materials"].is_object()) throw InputError("criteria.materials must map material ids to criteria, e.g. {\"1\": {\"cell_size\": 1}}");
       for (const auto& [key, value] : c["materials"].items()) {
-        int id = 0;
-        try {
-          size_t used = 0;
-          id = std::stoi(key, &used);
-          if (used != key.size()) id = 0;
-        } catch (...) {
-        }
+        const int id = positiveIntegerKey(key);
         if (id <= 0) throw InputError("criteria.materials key '" + key + "' is not a material id: use positive integers as keys");
         spec.material_criteria[id] = parseCriteria(value, "criteria.materials." + key);
       }

@@ -16,7 +16,7 @@
 namespace oraclemesh {
 
 struct InputSpec {
-  enum class Kind { File, BrepText, Sphere, Surface };
+  enum class Kind { File, BrepText, Sphere, Surface, Image };
   std::string name;
   Kind kind = Kind::File;
   std::string file;       // Kind::File, resolved against the job's base directory
@@ -25,14 +25,20 @@ struct InputSpec {
   double radius = 0;
   std::vector<Point3> surface_points;                   // Kind::Surface
   std::vector<std::array<int64_t, 3>> surface_triangles;  // 0-based indices into surface_points
-  Role role = Role::Material;
-  int material = 0;
   // B-rep files and text: "solids": "separate" (default) makes each solid its own input
   // "<name>#k" in file order; "together" keeps them as one input.
   bool solids_together = false;
   // "materials": [m1, m2, ...]: material of each solid in file order (separate solids only;
   // the count is checked against the file when it is read). Empty: every solid gets `material`.
   std::vector<int> solid_materials;
+  std::string image;                   // Kind::Image: NRRD file, resolved like `file`
+  std::map<int, int> image_materials;  // Kind::Image: "materials" {label: material id}
+  Role role = Role::Material;
+  int material = 0;                    // not Kind::Image
+
+  // The material ids this input can give (per-solid materials, the image's mapped
+  // materials, or `material`).
+  std::vector<int> materials() const;
 };
 
 // Criteria as the user wrote them; unset values are filled from the model size later.

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -13,6 +14,8 @@
 #include "Error.h"
 #include "cgal/Mesh3Engine.h"
 #include "domain/BrepSolid.h"
+#include "domain/LabeledImage.h"
+#include "domain/NrrdReader.h"
 #include "domain/Sphere.h"
 #include "domain/TriangleSurface.h"
 #include "features/BrepSharpEdges.h"
@@ -71,7 +74,13 @@ LoadedInput loadInput(const InputSpec& in) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     return ext == ".stl" || ext == ".obj" || ext == ".off";
   }();
-  if (in.kind == InputSpec::Kind::Sphere) {
+  if (in.kind == InputSpec::Kind::Image) {
+    // One entry per mapped label. The regions of one image are disjoint, so their order among
+    // themselves does not matter; together they take the image's place in the priority list.
+    const auto image = readNrrdLabels(in.image, in.name);
+    for (auto& [region, material] : makeImageRegions(image, in.image_materials, in.name))
+      add(region, material, "image region");
+  } else if (in.kind == InputSpec::Kind::Sphere) {
     add(std::make_shared<Sphere>(in.center, in.radius, in.name), in.material, "sphere");
   } else if (in.kind == InputSpec::Kind::Surface) {
     add(TriangleSurface::fromTriangles(in.surface_points, in.surface_triangles, in.name), in.material,
@@ -124,10 +133,7 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
 
   std::set<int> materials;
   for (const InputSpec& in : job.inputs)
-    if (in.role == Role::Material) {
-      materials.insert(in.material);
-      materials.insert(in.solid_materials.begin(), in.solid_materials.end());
-    }
+    for (int id : in.materials()) materials.insert(id);
   for (const auto& [id, spec] : job.material_criteria)
     if (!materials.count(id))
       throw InputError("criteria.materials names material " + std::to_string(id) +
@@ -210,9 +216,10 @@ struct SnapResult {
   std::vector<int> vertex_entry;  // entry whose boundary the vertex was put on, -1 interior
   double max_move = 0;
   int64_t moved = 0;
-  // Vertices left where Mesh_3 put them because the move would have inverted a flat tet
-  // (slivers with all four corners on one face, where feature curves meet at small angles).
+  // Vertices left where Mesh_3 put them because the move would have flattened or inverted a
+  // tet that could not be removed (interface slivers, where curves meet at small angles).
   int64_t kept_off_surface = 0;
+  int64_t slivers_removed = 0;  // flat tets on the outer surface (see removeFlatSurfaceSlivers)
   double max_distance_kept = 0;
   Point3 worst_kept{};
 };
@@ -229,9 +236,9 @@ BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveO
   return solid->projectOnEdge(p, origin.edge);
 }
 
-// Whether moving vertex v to `target` would turn one of its (positively oriented) tets
-// inside out or flat.
-bool invertsAnIncidentTet(const TetMesh& mesh, const std::vector<int64_t>& tets, int64_t v, const Point3& target) {
+// Whether moving vertex v to `target` would turn one of its (positively oriented) tets flat or
+// inside out.
+bool degeneratesAnIncidentTet(const TetMesh& mesh, const std::vector<int64_t>& tets, int64_t v, const Point3& target) {
   for (int64_t t : tets) {
     std::array<Point3, 4> corners;
     for (int k = 0; k < 4; ++k) corners[k] = mesh.tets[t][k] == v ? target : mesh.points[mesh.tets[t][k]];
@@ -240,44 +247,103 @@ bool invertsAnIncidentTet(const TetMesh& mesh, const std::vector<int64_t>& tets,
   return false;
 }
 
+std::vector<std::vector<int64_t>> tetsOfVertices(const TetMesh& mesh) {
+  std::vector<std::vector<int64_t>> tets(mesh.points.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) tets[mesh.tets[t][k]].push_back(static_cast<int64_t>(t));
+  return tets;
+}
+
+// Mesh_3 leaves slivers lying on the outer surface (four corners on one face, or across a
+// sharp edge) that go flat or inside out once their corners are on the CAD faces. Such a tet
+// with two or three faces on the outside holds no volume of the part: removing it leaves its
+// other faces as the (equally flat) surface there. Interface slivers are not removed (that
+// would open the interface); the snap leaves their corners where they are instead.
+int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target) {
+  std::map<std::array<int64_t, 3>, int> faceUse;
+  auto faceOf = [&](size_t t, int skip) {
+    std::array<int64_t, 3> f{};
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (k != skip) f[n++] = mesh.tets[t][k];
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) ++faceUse[faceOf(t, k)];
+  std::vector<char> remove(mesh.tets.size(), 0);
+  int64_t removed = 0;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    int outside = 0;
+    for (int k = 0; k < 4; ++k) outside += faceUse[faceOf(t, k)] == 1;
+    if (outside < 2 || outside > 3) continue;
+    const auto& c = mesh.tets[t];
+    if (tetVolume(target[c[0]], target[c[1]], target[c[2]], target[c[3]]) > 0) continue;
+    remove[t] = 1;
+    ++removed;
+    // Its neighbours' faces become outside: keep them from qualifying in this same pass, which
+    // could remove both sides of a face and open the mesh.
+    for (int k = 0; k < 4; ++k) faceUse[faceOf(t, k)] += 2;
+  }
+  if (removed == 0) return 0;
+  size_t kept = 0;
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    if (!remove[t]) {
+      mesh.tets[kept] = mesh.tets[t];
+      mesh.tet_materials[kept] = mesh.tet_materials[t];
+      ++kept;
+    }
+  mesh.tets.resize(kept);
+  mesh.tet_materials.resize(kept);
+  mesh.boundary = extractBoundary(mesh);
+  return removed;
+}
+
 SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
                                 const std::unordered_map<int, CurveOrigin>& origins, const RunControl& control) {
   SnapResult r;
   r.vertex_entry.assign(mesh.points.size(), -1);
-  std::vector<std::vector<int64_t>> tetsOfVertex(mesh.points.size());
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int k = 0; k < 4; ++k) tetsOfVertex[mesh.tets[t][k]].push_back(static_cast<int64_t>(t));
   std::vector<char> onBoundary(mesh.points.size(), 0);
   for (const BoundaryTriangle& t : mesh.boundary)
     for (int64_t v : t.v) onBoundary[v] = 1;
+  // Where each boundary or feature vertex belongs: on its feature curve, else on the nearest
+  // CAD face. Corners are exact curve ends already.
+  std::vector<Point3> target = mesh.points;
+  std::vector<double> move(mesh.points.size(), 0.0);
   for (size_t v = 0; v < mesh.points.size(); ++v) {
     if (!onBoundary[v] && mesh.vertex_dimension[v] == 3) continue;
     if ((v & 1023) == 0) control.checkpoint();
-    Point3& p = mesh.points[v];
     BoundaryProjection q;
     int entry = -1;
     const int curve = mesh.vertex_curve[v];
     if (mesh.vertex_dimension[v] <= 1 && curve >= 0 && origins.count(curve)) {
       const CurveOrigin& origin = origins.at(curve);
-      q = projectOnCurve(oracle, origin, p);
+      q = projectOnCurve(oracle, origin, mesh.points[v]);
       entry = origin.entry;
     }
-    if (!std::isfinite(q.distance)) q = oracle.projectOnBoundary(p, &entry);
+    if (!std::isfinite(q.distance)) q = oracle.projectOnBoundary(mesh.points[v], &entry);
     r.vertex_entry[v] = entry;
-    if (mesh.vertex_dimension[v] == 0) continue;  // corners are exact curve ends already
+    if (mesh.vertex_dimension[v] == 0) continue;
     if (mesh.vertex_dimension[v] == 3) mesh.vertex_dimension[v] = 2;
     if (!std::isfinite(q.distance) || q.distance == 0) continue;
-    if (invertsAnIncidentTet(mesh, tetsOfVertex[v], static_cast<int64_t>(v), q.point)) {
+    target[v] = q.point;
+    move[v] = q.distance;
+  }
+  r.slivers_removed = removeFlatSurfaceSlivers(mesh, target);
+  const std::vector<std::vector<int64_t>> tetsOfVertex = tetsOfVertices(mesh);
+  for (size_t v = 0; v < mesh.points.size(); ++v) {
+    if (move[v] == 0) continue;
+    if (degeneratesAnIncidentTet(mesh, tetsOfVertex[v], static_cast<int64_t>(v), target[v])) {
       ++r.kept_off_surface;
-      if (q.distance > r.max_distance_kept) {
-        r.max_distance_kept = q.distance;
-        r.worst_kept = p;
+      if (move[v] > r.max_distance_kept) {
+        r.max_distance_kept = move[v];
+        r.worst_kept = mesh.points[v];
       }
       continue;
     }
-    r.max_move = std::max(r.max_move, q.distance);
+    r.max_move = std::max(r.max_move, move[v]);
     ++r.moved;
-    p = q.point;
+    mesh.points[v] = target[v];
   }
   return r;
 }
@@ -452,6 +518,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                              {"max_move_relative", diagonal > 0 ? snap.max_move / diagonal : 0},
                              {"vertices_moved", snap.moved},
                              {"vertices_kept_off_surface", snap.kept_off_surface},
+                             {"flat_surface_slivers_removed", snap.slivers_removed},
                              {"max_distance_kept_off_surface", snap.max_distance_kept}};
   report["element_order"] = job.element_order;
   if (job.element_order == 2) report["second_order_straight_fallbacks"] = straightMidNodes;

@@ -16,6 +16,7 @@ import tempfile
 
 from . import _core
 from ._core import Cancelled, Error, InputError, LimitError
+from .images import with_image_files
 
 __all__ = ["run", "run_isolated", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
 __version__ = _core.version()
@@ -69,28 +70,33 @@ def run(job, progress=None, base_directory=None):
     progress(phase: str, fraction: float) is called from the meshing thread with the GIL
     held; returning False cancels (oraclemesh.Cancelled is raised). Relative paths in the
     job are taken relative to base_directory (default: the job file's folder, or the
-    current directory for a dict). Raises oraclemesh.Error subclasses with a message that
-    names the input and the fix.
+    current directory for a dict). An image input may give its labels as a numpy array:
+    {"image": {"labels": labels[z][y][x], "spacing": [sx, sy, sz], "origin": [x, y, z]},
+    "materials": {"1": 2}} (see oraclemesh.images for the axis order). Raises
+    oraclemesh.Error subclasses with a message that names the input and the fix.
     """
-    if isinstance(job, (str, os.PathLike)):
-        path = os.fspath(job)
-        try:
-            with open(path) as f:
-                text = f.read()
-        except OSError as e:
-            raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
-        base = base_directory or os.path.dirname(os.path.abspath(path))
-    else:
-        bad = _first_non_finite(job, "")
-        if bad:
-            raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
-        try:
-            text = json.dumps(job, allow_nan=False, default=_array_as_list)
-        except (TypeError, ValueError) as e:
-            raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
-                             "strings and numbers" % e) from None
-        base = base_directory or os.getcwd()
-    return Result(_core.run(text, base, progress))
+    # Images given as arrays live in NRRD files until the core has read them.
+    with tempfile.TemporaryDirectory(prefix="oraclemesh-images-") as images:
+        if isinstance(job, (str, os.PathLike)):
+            path = os.fspath(job)
+            try:
+                with open(path) as f:
+                    text = f.read()
+            except OSError as e:
+                raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
+            base = base_directory or os.path.dirname(os.path.abspath(path))
+        else:
+            bad = _first_non_finite(job, "")
+            if bad:
+                raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
+            job = with_image_files(job, images)
+            try:
+                text = json.dumps(job, allow_nan=False, default=_array_as_list)
+            except (TypeError, ValueError) as e:
+                raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
+                                 "strings and numbers" % e) from None
+            base = base_directory or os.getcwd()
+        return Result(_core.run(text, base, progress))
 
 
 def run_isolated(job, progress=None, base_directory=None):
@@ -110,6 +116,7 @@ def run_isolated(job, progress=None, base_directory=None):
             base_directory = base_directory or os.path.dirname(job_path)
             with open(job_path) as f:
                 job = json.load(f)
+        job = with_image_files(job, tmp)
         job_path = os.path.join(tmp, "job.json")
         with open(job_path, "w") as f:
             json.dump(_with_absolute_paths(job, base_directory or os.getcwd()), f)
@@ -168,8 +175,9 @@ def _with_absolute_paths(job, base):
     """The child runs elsewhere: input and output paths are made absolute first."""
     job = json.loads(json.dumps(job, default=_array_as_list))
     for entry in job.get("inputs", []) if isinstance(job, dict) else []:
-        if isinstance(entry, dict) and isinstance(entry.get("file"), str):
-            entry["file"] = os.path.join(base, entry["file"])
+        for key in ("file", "image"):
+            if isinstance(entry, dict) and isinstance(entry.get(key), str):
+                entry[key] = os.path.join(base, entry[key])
     output = job.get("output") if isinstance(job, dict) else None
     if isinstance(output, dict):
         if isinstance(output.get("files"), list):
