@@ -25,9 +25,11 @@
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
+#include <IntCurvesFace_Intersector.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
+#include <gp_Lin.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -43,6 +45,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -258,6 +261,17 @@ struct BrepSolid::Impl {
   std::unique_ptr<ProxyTree> proxyTree;
   std::unique_ptr<ProxySide> proxySide;
   ProxyInfo proxy;
+  std::vector<int> facesWithoutTriangles;  // always intersected exactly by crossings()
+
+  // Exact crossings. An IntCurvesFace_Intersector keeps its results in itself, so like the
+  // classifiers each query leases a set (one per face, built on first use) from a pool.
+  std::vector<int> solidOfFace;                   // index into `solids`
+  std::vector<Handle(Geom_Surface)> faceSurface;  // located, for normals at the hits
+  struct FaceIntersectors {
+    std::vector<std::unique_ptr<IntCurvesFace_Intersector>> byFace;
+  };
+  mutable std::mutex intersectorMutex;
+  mutable std::vector<std::unique_ptr<FaceIntersectors>> idleIntersectors;
 
   void index();
   bool proxyTrusted(const KPoint& q) const;
@@ -265,6 +279,8 @@ struct BrepSolid::Impl {
   void buildProxy();
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
+  std::vector<int> facesNearSegment(const Point3& a, const Point3& b) const;
+  std::vector<BoundaryCrossing> exactCrossings(const Point3& a, const Point3& b, const std::vector<int>& faces) const;
 };
 
 void BrepSolid::Impl::index() {
@@ -290,6 +306,11 @@ void BrepSolid::Impl::index() {
     pool->box = boxOf(ex.Current());
     solids.push_back(std::move(pool));
   }
+  solidOfFace.assign(faces.size(), 0);
+  for (size_t s = 0; s < solids.size(); ++s)
+    for (TopExp_Explorer ex(solids[s]->solid, TopAbs_FACE); ex.More(); ex.Next())
+      solidOfFace[faceMap.FindIndex(ex.Current()) - 1] = static_cast<int>(s);
+  for (const TopoDS_Face& f : faces) faceSurface.push_back(BRep_Tool::Surface(f));
 }
 
 void BrepSolid::Impl::buildProxy() {
@@ -314,6 +335,7 @@ void BrepSolid::Impl::buildProxy() {
     const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
     if (tri.IsNull() || tri->NbTriangles() == 0) {
       complete = false;
+      facesWithoutTriangles.push_back(static_cast<int>(f));
       continue;
     }
     double& measured = measuredOfFace[f];
@@ -458,6 +480,167 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
   best.distance = dist.Value();
   best.patch = face;
   return best;
+}
+
+namespace {
+
+// Whether the segment a + t d, t in [0, 1], meets `box` grown by `margin` on every side
+// (a slab test). Growing the box by the margin contains the ball of that radius around it,
+// so this never rejects a box within `margin` of the segment.
+bool segmentMeetsBox(const Point3& a, const Point3& d, const CGAL::Bbox_3& box, double margin) {
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = box.min(i) - margin, hi = box.max(i) + margin;
+    if (d[i] == 0.0) {
+      if (a[i] < lo || a[i] > hi) return false;
+      continue;
+    }
+    double ta = (lo - a[i]) / d[i], tb = (hi - a[i]) / d[i];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// AABB traversal that marks the B-rep faces having a proxy triangle within the face's band
+// of the segment: the only faces the segment can cross (each face lies within its band of
+// its own triangles).
+template <class Primitive>
+struct FacesNearSegment {
+  const std::function<CGAL::Bbox_3(const Primitive&)>& triangleBox;
+  const std::vector<int>& faceOfTriangle;
+  const std::vector<double>& faceBand;
+  Point3 a, d;
+  double reach;  // the widest band
+  std::vector<char>& marked;
+  std::vector<int>& found;
+
+  bool go_further() const { return true; }
+  template <class Query>
+  void intersection(const Query&, const Primitive& primitive) {
+    const int f = faceOfTriangle[static_cast<size_t>(primitive.id())];
+    if (marked[f]) return;
+    if (!segmentMeetsBox(a, d, triangleBox(primitive), faceBand[f])) return;
+    marked[f] = 1;
+    found.push_back(f);
+  }
+  template <class Query, class Node>
+  bool do_intersect(const Query&, const Node& node) const {
+    return segmentMeetsBox(a, d, node.bbox(), reach);
+  }
+};
+
+}  // namespace
+
+std::vector<int> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
+  std::vector<int> found;
+  if (!proxyTree) {
+    for (size_t f = 0; f < faces.size(); ++f) found.push_back(static_cast<int>(f));
+    return found;
+  }
+  std::vector<char> marked(faces.size(), 0);
+  const std::function<CGAL::Bbox_3(const ProxyTree::Primitive&)> triangleBox =
+      [this](const ProxyTree::Primitive& primitive) { return proxyTriangle(primitive.id()).bbox(); };
+  FacesNearSegment<ProxyTree::Primitive> traits{triangleBox, proxyFaceOfTriangle, faceBand, a, b - a,
+                                                proxy.exactBand, marked, found};
+  proxyTree->traversal(0, traits);
+  for (int f : facesWithoutTriangles)
+    if (!marked[f]) found.push_back(f);
+  return found;
+}
+
+std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, const Point3& b,
+                                                              const std::vector<int>& candidates) const {
+  std::vector<BoundaryCrossing> result;
+  if (candidates.empty()) return result;
+  const Point3 d = b - a;
+  const double length = norm(d);
+  const gp_Lin line(toGp(a), gp_Dir(d[0], d[1], d[2]));
+
+  std::unique_ptr<FaceIntersectors> lease;
+  {
+    std::lock_guard<std::mutex> lock(intersectorMutex);
+    if (!idleIntersectors.empty()) {
+      lease = std::move(idleIntersectors.back());
+      idleIntersectors.pop_back();
+    }
+  }
+  if (!lease) {
+    lease = std::make_unique<FaceIntersectors>();
+    lease->byFace.resize(faces.size());
+  }
+  struct Hit {
+    BoundaryCrossing crossing;
+    int solid;
+  };
+  std::vector<Hit> hits;
+  for (int f : candidates) {
+    auto& intersector = lease->byFace[f];
+    if (!intersector) intersector = std::make_unique<IntCurvesFace_Intersector>(faces[f], classifyTolerance);
+    intersector->Perform(line, 0.0, length);
+    if (!intersector->IsDone()) continue;
+    for (int i = 1; i <= intersector->NbPnt(); ++i) {
+      if (intersector->Transition(i) == IntCurveSurface_Tangent) continue;
+      const double w = intersector->WParameter(i);
+      if (w < 0.0 || w > length) continue;
+      gp_Pnt onSurface;
+      gp_Vec du, dv;
+      faceSurface[f]->D1(intersector->UParameter(i), intersector->VParameter(i), onSurface, du, dv);
+      gp_Vec normal = du.Crossed(dv);
+      if (faces[f].Orientation() == TopAbs_REVERSED) normal.Reverse();
+      const double side = normal.X() * d[0] + normal.Y() * d[1] + normal.Z() * d[2];
+      Hit hit;
+      hit.crossing.t = w / length;
+      hit.crossing.point = a + hit.crossing.t * d;
+      hit.crossing.patch = f;
+      hit.solid = solidOfFace[f];
+      if (normal.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude()) {
+        // A pole or an apex: no normal, so the side is read off the classifier just beyond.
+        const double step = std::min(1.0 - hit.crossing.t, 1e-7 * diagonal / length);
+        hit.crossing.entering = step > 0 && classifyExact(a + (hit.crossing.t + step) * d);
+      } else if (side == 0.0) {
+        continue;
+      } else {
+        hit.crossing.entering = side < 0;
+      }
+      hits.push_back(hit);
+    }
+  }
+  {
+    std::lock_guard<std::mutex> lock(intersectorMutex);
+    idleIntersectors.push_back(std::move(lease));
+  }
+
+  std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
+    return x.crossing.t != y.crossing.t ? x.crossing.t < y.crossing.t : x.crossing.patch < y.crossing.patch;
+  });
+  // Along one solid the segment enters and leaves in turn. Two hits in a row in the same
+  // sense are one crossing through the edge two faces share (or a seam) when they are at the
+  // same place: keep the first. Farther apart, one of them is wrong (OpenCASCADE misses a
+  // crossing or finds a spurious one on grazing B-spline faces, BRepIntCurveSurface_Inter
+  // alike): the classifier between them says which one agrees with inside().
+  const double sameEdge = 1e-6 * diagonal / length;
+  std::vector<int> lastOfSolid(solids.size(), -1);  // index into `kept`
+  std::vector<const Hit*> kept;
+  for (const Hit& hit : hits) {
+    int& last = lastOfSolid[hit.solid];
+    if (last >= 0 && kept[last]->crossing.entering == hit.crossing.entering) {
+      const Hit& previous = *kept[last];
+      if (hit.crossing.t - previous.crossing.t <= sameEdge) continue;
+      const bool insideBetween = classifyExact(a + 0.5 * (previous.crossing.t + hit.crossing.t) * d);
+      // Entering twice: inside between them means the second is wrong, else the first.
+      // Leaving twice: inside between them means the first is wrong, else the second.
+      if (insideBetween == hit.crossing.entering) continue;
+      kept[last] = nullptr;
+    }
+    last = static_cast<int>(kept.size());
+    kept.push_back(&hit);
+  }
+  for (const Hit* hit : kept)
+    if (hit) result.push_back(hit->crossing);
+  return result;
 }
 
 // ------------------------------------------------------------------------------------------
@@ -619,6 +802,19 @@ BoundaryProjection BrepSolid::project(const Point3& p) const {
                 ")");
   }
   return best;
+}
+
+std::vector<BoundaryCrossing> BrepSolid::crossings(const Point3& a, const Point3& b) const {
+  const Impl& m = *impl_;
+  if (distance(a, b) == 0.0) return {};
+  CGAL::Bbox_3 box(m.box.min[0], m.box.min[1], m.box.min[2], m.box.max[0], m.box.max[1], m.box.max[2]);
+  if (!segmentMeetsBox(a, b - a, box, m.classifyTolerance)) return {};
+  try {
+    return m.exactCrossings(a, b, m.facesNearSegment(a, b));
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to intersect a segment with input '" + m.name + "' (" +
+                failure.GetMessageString() + "): check the solid with Part > Check geometry");
+  }
 }
 
 BoundaryProjection BrepSolid::projectOnEdge(const Point3& p, int edgeIndex) const {
