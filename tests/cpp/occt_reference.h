@@ -21,7 +21,10 @@
 #include <random>
 #include <vector>
 
+#include <string>
+
 #include "Geometry.h"
+#include "domain/Source.h"
 
 namespace oraclemesh::test {
 
@@ -139,5 +142,67 @@ class ReferenceIntersector {
   BRepIntCurveSurface_Inter intersector_;
   TopTools_IndexedMapOfShape faces_;
 };
+
+// How crossings() compares with the reference hits of the same segment. The reference
+// lists an edge hit once per face, so hits within `close` (along the segment) are one place;
+// each crossing must match the next place in t (within `close`) and in face (any face hit
+// there). Places left without a crossing are allowed only where the reference contradicts
+// itself (two entries or two exits in a row along a single solid), which OpenCASCADE does on
+// a few grazing B-spline faces and crossings() resolves with the classifier.
+struct CrossingComparison {
+  std::string mismatch;  // empty when they agree
+  int contradictionsLeftOut = 0;
+};
+
+inline CrossingComparison compareWithReference(const std::vector<BoundaryCrossing>& ours,
+                                               const std::vector<ReferenceIntersector::Hit>& hits, double length,
+                                               double close, bool singleSolid) {
+  CrossingComparison result;
+  std::vector<std::vector<ReferenceIntersector::Hit>> places;
+  for (const auto& hit : hits) {
+    if (hit.tangent) continue;
+    if (places.empty() || (hit.t - places.back().front().t) * length > close) places.emplace_back();
+    places.back().push_back(hit);
+  }
+  auto contradictory = [&](size_t j) {
+    const bool sense = places[j].front().entering;
+    return singleSolid && ((j > 0 && places[j - 1].front().entering == sense) ||
+                           (j + 1 < places.size() && places[j + 1].front().entering == sense));
+  };
+  auto describe = [&](const char* what, double t, int face) {
+    return std::string(what) + " at t = " + std::to_string(t) + " on face " + std::to_string(face);
+  };
+  size_t j = 0;
+  for (const BoundaryCrossing& c : ours) {
+    auto matches = [&](size_t k) {
+      if (std::abs(c.t - places[k].front().t) * length > close) return false;
+      for (const auto& hit : places[k])
+        if (hit.face == c.patch) return true;
+      return false;
+    };
+    while (j < places.size() && !matches(j) && contradictory(j)) {
+      ++result.contradictionsLeftOut;
+      ++j;
+    }
+    if (j == places.size()) {
+      result.mismatch = describe("crossing", c.t, c.patch) + " is not in the reference";
+      return result;
+    }
+    if (!matches(j)) {
+      result.mismatch = describe("crossing", c.t, c.patch) + " but " +
+                        describe("reference", places[j].front().t, places[j].front().face);
+      return result;
+    }
+    ++j;
+  }
+  for (; j < places.size(); ++j) {
+    if (!contradictory(j)) {
+      result.mismatch = describe("reference crossing", places[j].front().t, places[j].front().face) + " is missing";
+      return result;
+    }
+    ++result.contradictionsLeftOut;
+  }
+  return result;
+}
 
 }  // namespace oraclemesh::test

@@ -153,10 +153,7 @@ TEST(Crossings, TriangleSurfaceThroughFacesEdgesAndVertices) {
 
 // BrepSolid::crossings against BRepIntCurveSurface_Inter on random segments: the same
 // crossings, at the same t (within 1e-7 of the diagonal), on the same face (or on a face the
-// reference hits at the same place: an edge). The only reference hits allowed to be missing
-// are those that contradict the reference itself: two entries (or exits) in a row, which
-// OpenCASCADE produces on a few grazing B-spline faces and crossings() resolves with the
-// classifier.
+// reference hits at the same place: an edge); see test::compareWithReference.
 void expectCrossingsAgreeWithOcct(const BrepSolid& solid, int count, unsigned seed) {
   const double diagonal = solid.bbox().diagonal();
   const double close = 1e-7 * diagonal;
@@ -174,45 +171,10 @@ void expectCrossingsAgreeWithOcct(const BrepSolid& solid, int count, unsigned se
     const std::vector<test::ReferenceIntersector::Hit> hits = reference.hits(a, b);
     referenceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    // The reference lists an edge hit once per face: group hits at the same place.
-    std::vector<std::vector<test::ReferenceIntersector::Hit>> places;
-    for (const auto& hit : hits) {
-      if (hit.tangent) continue;
-      if (places.empty() || (hit.t - places.back().front().t) * length > close) places.emplace_back();
-      places.back().push_back(hit);
-    }
-    auto contradictory = [&](size_t j) {
-      const bool sense = places[j].front().entering;
-      return (j > 0 && places[j - 1].front().entering == sense) ||
-             (j + 1 < places.size() && places[j + 1].front().entering == sense);
-    };
-    const std::string where = solid.name() + ": segment (" + std::to_string(a[0]) + ", " + std::to_string(a[1]) +
-                              ", " + std::to_string(a[2]) + ") -> (" + std::to_string(b[0]) + ", " +
-                              std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
-    size_t j = 0;
-    for (const BoundaryCrossing& c : ours) {
-      auto matches = [&](size_t k) {
-        if (std::abs(c.t - places[k].front().t) * length > close) return false;
-        for (const auto& hit : places[k])
-          if (hit.face == c.patch) return true;
-        return false;
-      };
-      while (j < places.size() && !matches(j) && solids == 1 && contradictory(j)) {
-        ++contradictions;
-        ++j;
-      }
-      ASSERT_LT(j, places.size()) << where << ": crossing at t = " << c.t << " on face " << c.patch
-                                  << " is not in the reference";
-      EXPECT_TRUE(matches(j)) << where << ": crossing at t = " << c.t << " on face " << c.patch
-                              << ", reference at t = " << places[j].front().t << " on face " << places[j].front().face;
-      ++j;
-    }
-    for (; j < places.size(); ++j) {
-      EXPECT_TRUE(solids == 1 && contradictory(j))
-          << where << ": reference crossing at t = " << places[j].front().t << " on face " << places[j].front().face
-          << " is missing";
-      ++contradictions;
-    }
+    const test::CrossingComparison comparison = test::compareWithReference(ours, hits, length, close, solids == 1);
+    EXPECT_EQ(comparison.mismatch, "") << solid.name() << ": segment (" << a[0] << ", " << a[1] << ", " << a[2]
+                                       << ") -> (" << b[0] << ", " << b[1] << ", " << b[2] << ")";
+    contradictions += comparison.contradictionsLeftOut;
     expectWellFormed(ours, a, b, 1e-9 * diagonal, solids == 1);
     total += static_cast<int>(ours.size());
   }

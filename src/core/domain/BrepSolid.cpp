@@ -9,6 +9,7 @@
 
 #include "domain/BrepSolid.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -26,6 +27,7 @@
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IntCurvesFace_Intersector.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
@@ -45,7 +47,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <functional>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -262,6 +263,12 @@ struct BrepSolid::Impl {
   std::unique_ptr<ProxySide> proxySide;
   ProxyInfo proxy;
   std::vector<int> facesWithoutTriangles;  // always intersected exactly by crossings()
+  std::vector<CGAL::Bbox_3> proxyTriangleBox;
+  // crossings(): a face lies within its band of its own triangles except next to a curved
+  // edge, where the face reaches beyond the edge's polygon by the polygon's sagitta (a hole
+  // in a planar face). The candidate test widens each face's band by that much.
+  std::vector<double> crossingBand;
+  double crossingReach = 0;  // the widest crossingBand
 
   // Exact crossings. An IntCurvesFace_Intersector keeps its results in itself, so like the
   // classifiers each query leases a set (one per face, built on first use) from a pool.
@@ -277,6 +284,7 @@ struct BrepSolid::Impl {
   bool proxyTrusted(const KPoint& q) const;
   Kernel::Triangle_3 proxyTriangle(ProxyMesh::Face_index f) const;
   void buildProxy();
+  void measureCrossingBands();
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
   std::vector<int> facesNearSegment(const Point3& a, const Point3& b) const;
@@ -419,6 +427,43 @@ void BrepSolid::Impl::buildProxy() {
   proxyTree->build();
   proxyTree->accelerate_distance_queries();  // built now, so that const queries never build
   if (proxy.usable) proxySide = std::make_unique<ProxySide>(*proxyTree);
+  for (ProxyMesh::Face_index f : proxyMesh.faces()) proxyTriangleBox.push_back(proxyTriangle(f).bbox());
+  measureCrossingBands();
+}
+
+void BrepSolid::Impl::measureCrossingBands() {
+  crossingBand = faceBand;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
+    if (tri.IsNull()) continue;
+    const gp_Trsf trsf = loc.Transformation();
+    double sagitta = 0;
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next()) {
+      const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
+      if (BRep_Tool::Degenerated(edge)) continue;
+      TopLoc_Location edgeLoc;
+      const Handle(Poly_PolygonOnTriangulation) polygon = BRep_Tool::PolygonOnTriangulation(edge, tri, edgeLoc);
+      if (polygon.IsNull() || polygon->Parameters().IsNull()) {
+        sagitta = std::max(sagitta, proxy.deflection);  // unknown: assume the worst measured
+        continue;
+      }
+      const BRepAdaptor_Curve curve(edge);
+      const TColStd_Array1OfInteger& nodes = polygon->Nodes();
+      const TColStd_Array1OfReal& parameters = polygon->Parameters()->Array1();
+      for (int i = nodes.Lower(); i < nodes.Upper(); ++i) {
+        const gp_Pnt p0 = tri->Node(nodes(i)).Transformed(trsf), p1 = tri->Node(nodes(i + 1)).Transformed(trsf);
+        const gp_Pnt chordMiddle((p0.XYZ() + p1.XYZ()) / 2);
+        const gp_Pnt onCurve = curve.Value(0.5 * (parameters(i) + parameters(i + 1)));
+        sagitta = std::max(sagitta, chordMiddle.Distance(onCurve));
+      }
+    }
+    // The midpoint sample bounds the sagitta of a circle-like arc up to sampling: 1.5 keeps
+    // a margin as in the face bands.
+    crossingBand[f] = faceBand[f] + 1.5 * sagitta;
+  }
+  crossingReach = 0;
+  for (double band : crossingBand) crossingReach = std::max(crossingReach, band);
 }
 
 Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const {
@@ -430,17 +475,39 @@ Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const
 // The proxy's side answer holds at q when q is outside every face's band: farther from that
 // face's triangles than twice the face's deviation from the B-rep.
 bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
-  // Most queries are far from every triangle: a ball test stops at the first box that rules
-  // the point in or out, much cheaper than a closest-point query.
-  const Kernel::Sphere_3 ball(q, proxy.exactBand * proxy.exactBand);
-  if (!proxyTree->do_intersect(ball)) return true;
-  std::vector<ProxyTree::Primitive_id> near;
-  proxyTree->all_intersected_primitives(ball, std::back_inserter(near));
-  for (const ProxyTree::Primitive_id& id : near) {
-    const double band = faceBand[proxyFaceOfTriangle[static_cast<size_t>(id)]];
-    if (CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(id))) <= band * band) return false;
-  }
-  return true;
+  // One traversal that stops at the first triangle within its face's band. Boxes are pruned
+  // by a plain floating-point distance with a relative margin: CGAL's exact ball/box
+  // predicate falls back to multi-precision arithmetic so often that it cost a third of
+  // inside(), and a prefilter only needs to never prune a box it should keep.
+  struct Traversal {
+    const Impl& m;
+    KPoint q;
+    double reachSquared;
+    bool trusted = true;
+
+    double squaredDistanceToBox(const CGAL::Bbox_3& box) const {
+      double sum = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double c = q[i];
+        const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
+        sum += gap * gap;
+      }
+      return sum;
+    }
+    bool go_further() const { return trusted; }
+    void intersection(int, const ProxyPrimitive& primitive) {
+      const size_t id = static_cast<size_t>(primitive.id());
+      const double band = m.faceBand[m.proxyFaceOfTriangle[id]];
+      if (squaredDistanceToBox(m.proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return;
+      if (CGAL::to_double(CGAL::squared_distance(q, m.proxyTriangle(primitive.id()))) <= band * band) trusted = false;
+    }
+    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+      return squaredDistanceToBox(node.bbox()) <= reachSquared;
+    }
+  };
+  Traversal traversal{*this, q, proxy.exactBand * proxy.exactBand * (1 + 1e-9)};
+  proxyTree->traversal(0, traversal);
+  return traversal.trusted;
 }
 
 bool BrepSolid::Impl::classifyExact(const Point3& p) const {
@@ -484,52 +551,36 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
 
 namespace {
 
-// Whether the segment a + t d, t in [0, 1], meets `box` grown by `margin` on every side
-// (a slab test). Growing the box by the margin contains the ball of that radius around it,
-// so this never rejects a box within `margin` of the segment.
-bool segmentMeetsBox(const Point3& a, const Point3& d, const CGAL::Bbox_3& box, double margin) {
-  double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    const double lo = box.min(i) - margin, hi = box.max(i) + margin;
-    if (d[i] == 0.0) {
-      if (a[i] < lo || a[i] > hi) return false;
-      continue;
+// Whether the segment a + t d, t in [0, 1], meets a box grown by a margin on every side (a
+// slab test). Growing the box by the margin contains the ball of that radius around it, so
+// this never rejects a box within the margin of the segment. The reciprocal direction is
+// computed once per segment: the test runs for every AABB node the segment passes.
+class SegmentBoxTest {
+ public:
+  SegmentBoxTest(const Point3& a, const Point3& d) : a_(a) {
+    for (int i = 0; i < 3; ++i) inverse_[i] = d[i] != 0.0 ? 1.0 / d[i] : 0.0;
+    for (int i = 0; i < 3; ++i) parallel_[i] = d[i] == 0.0;
+  }
+  bool meets(const CGAL::Bbox_3& box, double margin) const {
+    double t0 = 0.0, t1 = 1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double lo = box.min(i) - margin, hi = box.max(i) + margin;
+      if (parallel_[i]) {
+        if (a_[i] < lo || a_[i] > hi) return false;
+        continue;
+      }
+      double ta = (lo - a_[i]) * inverse_[i], tb = (hi - a_[i]) * inverse_[i];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return false;
     }
-    double ta = (lo - a[i]) / d[i], tb = (hi - a[i]) / d[i];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
+    return true;
   }
-  return true;
-}
 
-// AABB traversal that marks the B-rep faces having a proxy triangle within the face's band
-// of the segment: the only faces the segment can cross (each face lies within its band of
-// its own triangles).
-template <class Primitive>
-struct FacesNearSegment {
-  const std::function<CGAL::Bbox_3(const Primitive&)>& triangleBox;
-  const std::vector<int>& faceOfTriangle;
-  const std::vector<double>& faceBand;
-  Point3 a, d;
-  double reach;  // the widest band
-  std::vector<char>& marked;
-  std::vector<int>& found;
-
-  bool go_further() const { return true; }
-  template <class Query>
-  void intersection(const Query&, const Primitive& primitive) {
-    const int f = faceOfTriangle[static_cast<size_t>(primitive.id())];
-    if (marked[f]) return;
-    if (!segmentMeetsBox(a, d, triangleBox(primitive), faceBand[f])) return;
-    marked[f] = 1;
-    found.push_back(f);
-  }
-  template <class Query, class Node>
-  bool do_intersect(const Query&, const Node& node) const {
-    return segmentMeetsBox(a, d, node.bbox(), reach);
-  }
+ private:
+  Point3 a_, inverse_;
+  bool parallel_[3];
 };
 
 }  // namespace
@@ -540,14 +591,46 @@ std::vector<int> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3
     for (size_t f = 0; f < faces.size(); ++f) found.push_back(static_cast<int>(f));
     return found;
   }
-  std::vector<char> marked(faces.size(), 0);
-  const std::function<CGAL::Bbox_3(const ProxyTree::Primitive&)> triangleBox =
-      [this](const ProxyTree::Primitive& primitive) { return proxyTriangle(primitive.id()).bbox(); };
-  FacesNearSegment<ProxyTree::Primitive> traits{triangleBox, proxyFaceOfTriangle, faceBand, a, b - a,
-                                                proxy.exactBand, marked, found};
-  proxyTree->traversal(0, traits);
+  // AABB traversal that collects the B-rep faces having a proxy triangle within the face's
+  // crossing band of the segment: the only faces the segment can cross (each face lies
+  // within that band of its own triangles).
+  struct Traversal {
+    const Impl& m;
+    SegmentBoxTest boxTest;
+    Kernel::Segment_3 segment;
+    std::vector<char> marked;
+    std::vector<int>& found;
+
+    bool go_further() const { return true; }
+    void intersection(int, const ProxyPrimitive& primitive) {
+      const size_t id = static_cast<size_t>(primitive.id());
+      const int f = m.proxyFaceOfTriangle[id];
+      if (marked[f]) return;
+      const double band = m.crossingBand[f];
+      if (!boxTest.meets(m.proxyTriangleBox[id], band)) return;
+      // Segment/triangle distance: zero when they meet, else reached at an end of the
+      // segment or on an edge of the triangle.
+      const Kernel::Triangle_3 t = m.proxyTriangle(primitive.id());
+      if (!CGAL::do_intersect(segment, t)) {
+        const double limit = band * band;
+        bool near = CGAL::to_double(CGAL::squared_distance(segment.source(), t)) <= limit ||
+                    CGAL::to_double(CGAL::squared_distance(segment.target(), t)) <= limit;
+        for (int e = 0; e < 3 && !near; ++e)
+          near = CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))) <= limit;
+        if (!near) return;
+      }
+      marked[f] = 1;
+      found.push_back(f);
+    }
+    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+      return boxTest.meets(node.bbox(), m.crossingReach);
+    }
+  };
+  Traversal traversal{*this, SegmentBoxTest(a, b - a), Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
+                      std::vector<char>(faces.size(), 0), found};
+  proxyTree->traversal(0, traversal);
   for (int f : facesWithoutTriangles)
-    if (!marked[f]) found.push_back(f);
+    if (!traversal.marked[f]) found.push_back(f);
   return found;
 }
 
@@ -808,7 +891,7 @@ std::vector<BoundaryCrossing> BrepSolid::crossings(const Point3& a, const Point3
   const Impl& m = *impl_;
   if (distance(a, b) == 0.0) return {};
   CGAL::Bbox_3 box(m.box.min[0], m.box.min[1], m.box.min[2], m.box.max[0], m.box.max[1], m.box.max[2]);
-  if (!segmentMeetsBox(a, b - a, box, m.classifyTolerance)) return {};
+  if (!SegmentBoxTest(a, b - a).meets(box, m.classifyTolerance)) return {};
   try {
     return m.exactCrossings(a, b, m.facesNearSegment(a, b));
   } catch (const Standard_Failure& failure) {

@@ -1,0 +1,113 @@
+// The hierarchical oracle's labels against OpenCASCADE on 100,000 random points per model:
+// BRepClass3d_SolidClassifier (loaded once per solid, two threads) composed by priority
+// must give the same label everywhere except within 1e-7 x diagonal of an input boundary.
+// Its own executable and ctest entries: the reference is slow on B-spline models and the
+// time of each model is printed and visible in ctest.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+#include "Error.h"
+#include "domain/BrepSolid.h"
+#include "domain/HierarchicalOracle.h"
+
+#include "occt_checks.h"
+#include "occt_reference.h"
+
+namespace oraclemesh {
+namespace {
+
+// ORACLEMESH_AGREEMENT_POINTS overrides the count (e.g. for a quick run by hand).
+int pointCount() {
+  const char* value = std::getenv("ORACLEMESH_AGREEMENT_POINTS");
+  return value && std::atoi(value) > 0 ? std::atoi(value) : 100000;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void expectLabelsAgree(const std::string& what, const HierarchicalOracle& oracle,
+                       const std::vector<test::ReferenceLabeler::Input>& inputs, unsigned seed) {
+  const int count = pointCount();
+  const double diagonal = oracle.diagonal();
+  const std::vector<Point3> points = test::randomPointsAround(oracle.bbox(), count, seed);
+
+  auto start = std::chrono::steady_clock::now();
+  std::vector<int> ours(points.size());
+  for (size_t i = 0; i < points.size(); ++i) ours[i] = oracle.label(points[i]);
+  const double oursSeconds = secondsSince(start);
+
+  // Two threads, each with its own classifiers (an instance is not thread-safe).
+  start = std::chrono::steady_clock::now();
+  std::vector<int> reference(points.size());
+  auto work = [&](size_t first) {
+    test::ReferenceLabeler labeler(inputs, 1e-9 * diagonal);
+    for (size_t i = first; i < points.size(); i += 2) reference[i] = labeler.label(points[i]);
+  };
+  std::thread second(work, 1);
+  work(0);
+  second.join();
+  const double referenceSeconds = secondsSince(start);
+
+  int inBand = 0, outside = 0;
+  std::map<int, int> perLabel;
+  for (size_t i = 0; i < points.size(); ++i) {
+    ++perLabel[ours[i]];
+    if (ours[i] == reference[i]) continue;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& input : inputs) nearest = std::min(nearest, test::distanceToShape(points[i], input.shape));
+    if (nearest < 1e-7 * diagonal) {
+      ++inBand;
+      continue;
+    }
+    ++outside;
+    ADD_FAILURE() << what << ": label " << ours[i] << " but OpenCASCADE says " << reference[i] << " at ("
+                  << points[i][0] << ", " << points[i][1] << ", " << points[i][2] << "), " << nearest
+                  << " from the nearest boundary";
+    if (outside > 20) break;
+  }
+  EXPECT_GE(perLabel.size(), 2u) << "all points got the same label: the test would prove nothing";
+  std::cout << "[ figures  ] " << what << ": " << count << " points; label() " << count / oursSeconds
+            << " points/s, BRepClass3d_SolidClassifier by priority (2 threads) " << count / referenceSeconds
+            << " points/s (" << referenceSeconds << " s); " << inBand << " disagreements within 1e-7 x diagonal"
+            << " of a boundary, " << outside << " outside it\n";
+}
+
+class SharedModel : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SharedModel, LabelsAgreeWithClassifier) {
+  const std::string file = GetParam();
+  std::shared_ptr<BrepSolid> solid;
+  try {
+    solid = BrepSolid::fromFile(test::cadDir() + "/" + file, file);
+  } catch (const InputError& e) {
+    GTEST_SKIP() << file << " does not load as a solid: " << e.what();
+  }
+  const HierarchicalOracle oracle({{solid, Role::Material, 1}});
+  expectLabelsAgree(file, oracle, {{solid->shape(), 1}}, 61);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cad, SharedModel,
+                         ::testing::Values("part.step", "screw.step", "Kurbelwelle.stp", "U_Joint_2.stp",
+                                           "presse_asm.step"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           std::string name = info.param;
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+TEST(DemoAssembly, LabelsAgreeWithClassifier) {
+  const test::DemoAssembly parts;
+  const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(parts.pin, "pin"), Role::Material, 1},
+                                   {std::make_shared<BrepSolid>(parts.cut, "cut"), Role::Cut, 0},
+                                   {std::make_shared<BrepSolid>(parts.plate, "plate"), Role::Material, 2}});
+  expectLabelsAgree("demo assembly", oracle, {{parts.pin, 1}, {parts.cut, 0}, {parts.plate, 2}}, 62);
+}
+
+}  // namespace
+}  // namespace oraclemesh
