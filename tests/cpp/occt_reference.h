@@ -143,6 +143,26 @@ class ReferenceIntersector {
   TopTools_IndexedMapOfShape faces_;
 };
 
+// A second opinion on a point where the classifier is in doubt: the parity of the boundary
+// crossings (BRepIntCurveSurface_Inter) of rays from p to beyond the box, in three skew
+// directions. Returns 1 (inside) or 0 when the three rays agree, -1 when they do not.
+inline int insideByRayParity(const TopoDS_Shape& shape, const Point3& p, double reach, double tolerance) {
+  ReferenceIntersector intersector(shape, tolerance);
+  const Point3 directions[3] = {{0.8017, 0.2672, 0.5345}, {-0.3015, 0.9045, -0.3015}, {0.2182, -0.4364, -0.8729}};
+  int votes[2] = {0, 0};
+  for (const Point3& d : directions) {
+    int places = 0;
+    double last = -1;
+    for (const auto& hit : intersector.hits(p, p + reach * d)) {
+      if (hit.tangent) continue;
+      if (last < 0 || (hit.t - last) * reach > 1e3 * tolerance) ++places;  // an edge hit counts once
+      last = hit.t;
+    }
+    ++votes[places % 2];
+  }
+  return votes[0] == 3 ? 0 : votes[1] == 3 ? 1 : -1;
+}
+
 // How crossings() compares with the reference hits of the same segment. The reference
 // lists an edge hit once per face, so hits within `close` (along the segment) are one place;
 // each crossing must match the next place in t (within `close`) and in face (any face hit

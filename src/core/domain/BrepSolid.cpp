@@ -414,7 +414,15 @@ void BrepSolid::Impl::buildProxy() {
   faceBand.resize(faces.size());
   proxy.deflection = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
-    const double h = 1.5 * measuredOfFace[f] + maxShapeTolerance;
+    // The face's own tolerance (its edges' and vertices' included), not the model's largest:
+    // one sloppy edge (U_Joint_2 has a few at 0.02 mm, most at 4e-4) then widens the
+    // exact band near its faces only.
+    double tolerance = BRep_Tool::Tolerance(faces[f]);
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next())
+      tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(ex.Current())));
+    for (TopExp_Explorer ex(faces[f], TopAbs_VERTEX); ex.More(); ex.Next())
+      tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
+    const double h = 1.5 * measuredOfFace[f] + tolerance;
     proxy.deflection = std::max(proxy.deflection, h);
     faceBand[f] = 2 * h + 1e-9 * diagonal;
   }
