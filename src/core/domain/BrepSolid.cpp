@@ -287,8 +287,14 @@ struct BrepSolid::Impl {
   void measureCrossingBands();
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
-  std::vector<int> facesNearSegment(const Point3& a, const Point3& b) const;
-  std::vector<BoundaryCrossing> exactCrossings(const Point3& a, const Point3& b, const std::vector<int>& faces) const;
+  // A face the segment may cross, and the part [t0, t1] of the segment where it may.
+  struct FaceSpan {
+    int face;
+    double t0, t1;
+  };
+  std::vector<FaceSpan> facesNearSegment(const Point3& a, const Point3& b) const;
+  std::vector<BoundaryCrossing> exactCrossings(const Point3& a, const Point3& b,
+                                               const std::vector<FaceSpan>& candidates) const;
 };
 
 void BrepSolid::Impl::index() {
@@ -570,7 +576,13 @@ class SegmentBoxTest {
     for (int i = 0; i < 3; ++i) parallel_[i] = d[i] == 0.0;
   }
   bool meets(const CGAL::Bbox_3& box, double margin) const {
-    double t0 = 0.0, t1 = 1.0;
+    double t0, t1;
+    return meets(box, margin, t0, t1);
+  }
+  // Also gives the part [t0, t1] of the segment inside the grown box.
+  bool meets(const CGAL::Bbox_3& box, double margin, double& t0, double& t1) const {
+    t0 = 0.0;
+    t1 = 1.0;
     for (int i = 0; i < 3; ++i) {
       const double lo = box.min(i) - margin, hi = box.max(i) + margin;
       if (parallel_[i]) {
@@ -593,29 +605,31 @@ class SegmentBoxTest {
 
 }  // namespace
 
-std::vector<int> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
-  std::vector<int> found;
+std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
+  std::vector<FaceSpan> found;
   if (!proxyTree) {
-    for (size_t f = 0; f < faces.size(); ++f) found.push_back(static_cast<int>(f));
+    for (size_t f = 0; f < faces.size(); ++f) found.push_back({static_cast<int>(f), 0.0, 1.0});
     return found;
   }
   // AABB traversal that collects the B-rep faces having a proxy triangle within the face's
   // crossing band of the segment: the only faces the segment can cross (each face lies
-  // within that band of its own triangles).
+  // within that band of its own triangles). A hit on the face lies in the grown box of
+  // such a triangle, so the union of those boxes' parts of the segment is where to look.
   struct Traversal {
     const Impl& m;
     SegmentBoxTest boxTest;
     Kernel::Segment_3 segment;
-    std::vector<char> marked;
-    std::vector<int>& found;
+    std::vector<int> slot;  // per face: index into `found`, -1 when not found yet
+    std::vector<FaceSpan>& found;
 
     bool go_further() const { return true; }
     void intersection(int, const ProxyPrimitive& primitive) {
       const size_t id = static_cast<size_t>(primitive.id());
       const int f = m.proxyFaceOfTriangle[id];
-      if (marked[f]) return;
       const double band = m.crossingBand[f];
-      if (!boxTest.meets(m.proxyTriangleBox[id], band)) return;
+      double t0, t1;
+      if (!boxTest.meets(m.proxyTriangleBox[id], band, t0, t1)) return;
+      if (slot[f] >= 0 && found[slot[f]].t0 <= t0 && t1 <= found[slot[f]].t1) return;  // adds nothing
       // Segment/triangle distance: zero when they meet, else reached at an end of the
       // segment or on an edge of the triangle.
       const Kernel::Triangle_3 t = m.proxyTriangle(primitive.id());
@@ -627,23 +641,29 @@ std::vector<int> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3
           near = CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))) <= limit;
         if (!near) return;
       }
-      marked[f] = 1;
-      found.push_back(f);
+      if (slot[f] < 0) {
+        slot[f] = static_cast<int>(found.size());
+        found.push_back({f, t0, t1});
+      } else {
+        found[slot[f]].t0 = std::min(found[slot[f]].t0, t0);
+        found[slot[f]].t1 = std::max(found[slot[f]].t1, t1);
+      }
     }
     bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
       return boxTest.meets(node.bbox(), m.crossingReach);
     }
   };
-  Traversal traversal{*this, SegmentBoxTest(a, b - a), Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
-                      std::vector<char>(faces.size(), 0), found};
+  Traversal traversal{*this, SegmentBoxTest(a, b - a),
+                      Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
+                      std::vector<int>(faces.size(), -1), found};
   proxyTree->traversal(0, traversal);
   for (int f : facesWithoutTriangles)
-    if (!traversal.marked[f]) found.push_back(f);
+    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0});
   return found;
 }
 
 std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, const Point3& b,
-                                                              const std::vector<int>& candidates) const {
+                                                              const std::vector<FaceSpan>& candidates) const {
   std::vector<BoundaryCrossing> result;
   if (candidates.empty()) return result;
   const Point3 d = b - a;
@@ -667,10 +687,11 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
     int solid;
   };
   std::vector<Hit> hits;
-  for (int f : candidates) {
+  for (const FaceSpan& span : candidates) {
+    const int f = span.face;
     auto& intersector = lease->byFace[f];
     if (!intersector) intersector = std::make_unique<IntCurvesFace_Intersector>(faces[f], classifyTolerance);
-    intersector->Perform(line, 0.0, length);
+    intersector->Perform(line, span.t0 * length, span.t1 * length);
     if (!intersector->IsDone()) continue;
     for (int i = 1; i <= intersector->NbPnt(); ++i) {
       if (intersector->Transition(i) == IntCurveSurface_Tangent) continue;
