@@ -142,7 +142,7 @@ INSTANTIATE_TEST_SUITE_P(Cad, SharedModel,
                            return name;
                          });
 
-TEST(DemoAssembly, LabelsAgreeWithClassifier) {
+TEST(AssemblyLabels, DemoAssemblyAgreesWithClassifier) {
   const test::DemoAssembly parts;
   const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(parts.pin, "pin"), Role::Material, 1},
                                    {std::make_shared<BrepSolid>(parts.cut, "cut"), Role::Cut, 0},

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iostream>
 #include <random>
+#include <thread>
 
 #include "Error.h"
 #include "domain/BrepSolid.h"
@@ -239,6 +240,27 @@ INSTANTIATE_TEST_SUITE_P(Cad, CrossingsOnSharedModel,
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
+
+TEST(Crossings, ConcurrentQueriesGiveTheSequentialAnswers) {
+  // Mesh_3 queries the oracle from several threads: the intersectors are leased per query.
+  const auto solid = BrepSolid::fromFile(cadDir() + "/Kurbelwelle.stp", "Kurbelwelle");
+  const auto segments = randomSegments(solid->bbox(), 400, 71);
+  std::vector<std::vector<BoundaryCrossing>> sequential, parallel(segments.size());
+  for (const auto& [a, b] : segments) sequential.push_back(solid->crossings(a, b));
+  auto work = [&](size_t first) {
+    for (size_t i = first; i < segments.size(); i += 2) parallel[i] = solid->crossings(segments[i].first, segments[i].second);
+  };
+  std::thread other(work, 1);
+  work(0);
+  other.join();
+  for (size_t i = 0; i < segments.size(); ++i) {
+    ASSERT_EQ(parallel[i].size(), sequential[i].size());
+    for (size_t k = 0; k < parallel[i].size(); ++k) {
+      EXPECT_EQ(parallel[i][k].t, sequential[i][k].t);
+      EXPECT_EQ(parallel[i][k].patch, sequential[i][k].patch);
+    }
+  }
+}
 
 // The demo assembly as the oracle sees it: pin (material 1) over the cut box over the plate
 // (material 2).
