@@ -26,15 +26,12 @@
 #include "job/Pipeline.h"
 #include "mesh_checks.h"
 #include "occt_checks.h"
+#include "occt_reference.h"
 
 namespace oraclemesh {
 namespace {
 
-struct DemoAssembly {
-  TopoDS_Shape pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(30, 30, -10), gp_Dir(0, 0, 1)), 5, 30).Shape();
-  TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 100, 60, 10).Shape();
-  TopoDS_Shape cut = BRepPrimAPI_MakeBox(gp_Pnt(80, 40, -5), 30, 30, 20).Shape();
-};
+using test::DemoAssembly;
 
 using test::brepText;
 using test::volumeOf;

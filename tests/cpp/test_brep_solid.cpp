@@ -38,30 +38,17 @@
 #include "domain/Sphere.h"
 
 #include "occt_checks.h"
+#include "occt_reference.h"
 
 namespace oraclemesh {
 namespace {
 
 using test::cadDir;
 using test::distanceToShape;
+using test::randomPointsAround;
 
 gp_Pnt gp(const Point3& p) { return gp_Pnt(p[0], p[1], p[2]); }
 
-
-std::vector<Point3> randomPointsAround(const Bbox& box, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0, 1);
-  std::vector<Point3> points;
-  for (int i = 0; i < count; ++i) {
-    Point3 p;
-    for (int a = 0; a < 3; ++a) {
-      const double w = box.max[a] - box.min[a];
-      p[a] = box.min[a] - 0.1 * w + 1.2 * w * unit(rng);
-    }
-    points.push_back(p);
-  }
-  return points;
-}
 
 std::string errorOf(const std::function<void()>& action) {
   try {

@@ -9,6 +9,7 @@
 
 #include "domain/BrepSolid.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -26,9 +27,12 @@
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IntCurvesFace_Intersector.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
+#include <gp_Lin.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -346,13 +350,39 @@ struct BrepSolid::Impl {
   std::unique_ptr<ProxyTree> proxyTree;
   std::unique_ptr<ProxySide> proxySide;
   ProxyInfo proxy;
+  std::vector<int> facesWithoutTriangles;  // always intersected exactly by crossings()
+  std::vector<CGAL::Bbox_3> proxyTriangleBox;
+  // crossings(): a face lies within its band of its own triangles except next to a curved
+  // edge, where the face reaches beyond the edge's polygon by the polygon's sagitta (a hole
+  // in a planar face). The candidate test widens each face's band by that much.
+  std::vector<double> crossingBand;
+  double crossingReach = 0;  // the widest crossingBand
+
+  // Exact crossings. An IntCurvesFace_Intersector keeps its results in itself, so like the
+  // classifiers each query leases a set (one per face, built on first use) from a pool.
+  std::vector<int> solidOfFace;                   // index into `solids`
+  std::vector<Handle(Geom_Surface)> faceSurface;  // located, for normals at the hits
+  struct FaceIntersectors {
+    std::vector<std::unique_ptr<IntCurvesFace_Intersector>> byFace;
+  };
+  mutable std::mutex intersectorMutex;
+  mutable std::vector<std::unique_ptr<FaceIntersectors>> idleIntersectors;
 
   void index();
   bool proxyTrusted(const KPoint& q) const;
   Kernel::Triangle_3 proxyTriangle(ProxyMesh::Face_index f) const;
   void buildProxy();
+  void measureCrossingBands();
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
+  // A face the segment may cross, and the part [t0, t1] of the segment where it may.
+  struct FaceSpan {
+    int face;
+    double t0, t1;
+  };
+  std::vector<FaceSpan> facesNearSegment(const Point3& a, const Point3& b) const;
+  std::vector<BoundaryCrossing> exactCrossings(const Point3& a, const Point3& b,
+                                               const std::vector<FaceSpan>& candidates) const;
 };
 
 void BrepSolid::Impl::index() {
@@ -378,6 +408,11 @@ void BrepSolid::Impl::index() {
     pool->box = boxOf(ex.Current());
     solids.push_back(std::move(pool));
   }
+  solidOfFace.assign(faces.size(), 0);
+  for (size_t s = 0; s < solids.size(); ++s)
+    for (TopExp_Explorer ex(solids[s]->solid, TopAbs_FACE); ex.More(); ex.Next())
+      solidOfFace[faceMap.FindIndex(ex.Current()) - 1] = static_cast<int>(s);
+  for (const TopoDS_Face& f : faces) faceSurface.push_back(BRep_Tool::Surface(f));
 }
 
 void BrepSolid::Impl::buildProxy() {
@@ -402,6 +437,7 @@ void BrepSolid::Impl::buildProxy() {
     const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
     if (tri.IsNull() || tri->NbTriangles() == 0) {
       complete = false;
+      facesWithoutTriangles.push_back(static_cast<int>(f));
       continue;
     }
     double& measured = measuredOfFace[f];
@@ -472,7 +508,15 @@ void BrepSolid::Impl::buildProxy() {
   faceBand.resize(faces.size());
   proxy.deflection = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
-    const double h = 1.5 * measuredOfFace[f] + maxShapeTolerance;
+    // The face's own tolerance (its edges' and vertices' included), not the model's largest:
+    // one sloppy edge (U_Joint_2 has a few at 0.02 mm, most at 4e-4) then widens the
+    // exact band near its faces only.
+    double tolerance = BRep_Tool::Tolerance(faces[f]);
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next())
+      tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(ex.Current())));
+    for (TopExp_Explorer ex(faces[f], TopAbs_VERTEX); ex.More(); ex.Next())
+      tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
+    const double h = 1.5 * measuredOfFace[f] + tolerance;
     proxy.deflection = std::max(proxy.deflection, h);
     faceBand[f] = 2 * h + 1e-9 * diagonal;
   }
@@ -485,6 +529,43 @@ void BrepSolid::Impl::buildProxy() {
   proxyTree->build();
   proxyTree->accelerate_distance_queries();  // built now, so that const queries never build
   if (proxy.usable) proxySide = std::make_unique<ProxySide>(*proxyTree);
+  for (ProxyMesh::Face_index f : proxyMesh.faces()) proxyTriangleBox.push_back(proxyTriangle(f).bbox());
+  measureCrossingBands();
+}
+
+void BrepSolid::Impl::measureCrossingBands() {
+  crossingBand = faceBand;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
+    if (tri.IsNull()) continue;
+    const gp_Trsf trsf = loc.Transformation();
+    double sagitta = 0;
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next()) {
+      const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
+      if (BRep_Tool::Degenerated(edge)) continue;
+      TopLoc_Location edgeLoc;
+      const Handle(Poly_PolygonOnTriangulation) polygon = BRep_Tool::PolygonOnTriangulation(edge, tri, edgeLoc);
+      if (polygon.IsNull() || polygon->Parameters().IsNull()) {
+        sagitta = std::max(sagitta, proxy.deflection);  // unknown: assume the worst measured
+        continue;
+      }
+      const BRepAdaptor_Curve curve(edge);
+      const TColStd_Array1OfInteger& nodes = polygon->Nodes();
+      const TColStd_Array1OfReal& parameters = polygon->Parameters()->Array1();
+      for (int i = nodes.Lower(); i < nodes.Upper(); ++i) {
+        const gp_Pnt p0 = tri->Node(nodes(i)).Transformed(trsf), p1 = tri->Node(nodes(i + 1)).Transformed(trsf);
+        const gp_Pnt chordMiddle((p0.XYZ() + p1.XYZ()) / 2);
+        const gp_Pnt onCurve = curve.Value(0.5 * (parameters(i) + parameters(i + 1)));
+        sagitta = std::max(sagitta, chordMiddle.Distance(onCurve));
+      }
+    }
+    // The midpoint sample bounds the sagitta of a circle-like arc up to sampling: 1.5 keeps
+    // a margin as in the face bands.
+    crossingBand[f] = faceBand[f] + 1.5 * sagitta;
+  }
+  crossingReach = 0;
+  for (double band : crossingBand) crossingReach = std::max(crossingReach, band);
 }
 
 Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const {
@@ -496,17 +577,39 @@ Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const
 // The proxy's side answer holds at q when q is outside every face's band: farther from that
 // face's triangles than twice the face's deviation from the B-rep.
 bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
-  // Most queries are far from every triangle: a ball test stops at the first box that rules
-  // the point in or out, much cheaper than a closest-point query.
-  const Kernel::Sphere_3 ball(q, proxy.exactBand * proxy.exactBand);
-  if (!proxyTree->do_intersect(ball)) return true;
-  std::vector<ProxyTree::Primitive_id> near;
-  proxyTree->all_intersected_primitives(ball, std::back_inserter(near));
-  for (const ProxyTree::Primitive_id& id : near) {
-    const double band = faceBand[proxyFaceOfTriangle[static_cast<size_t>(id)]];
-    if (CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(id))) <= band * band) return false;
-  }
-  return true;
+  // One traversal that stops at the first triangle within its face's band. Boxes are pruned
+  // by a plain floating-point distance with a relative margin: CGAL's exact ball/box
+  // predicate falls back to multi-precision arithmetic so often that it cost a third of
+  // inside(), and a prefilter only needs to never prune a box it should keep.
+  struct Traversal {
+    const Impl& m;
+    KPoint q;
+    double reachSquared;
+    bool trusted = true;
+
+    double squaredDistanceToBox(const CGAL::Bbox_3& box) const {
+      double sum = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double c = q[i];
+        const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
+        sum += gap * gap;
+      }
+      return sum;
+    }
+    bool go_further() const { return trusted; }
+    void intersection(int, const ProxyPrimitive& primitive) {
+      const size_t id = static_cast<size_t>(primitive.id());
+      const double band = m.faceBand[m.proxyFaceOfTriangle[id]];
+      if (squaredDistanceToBox(m.proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return;
+      if (CGAL::to_double(CGAL::squared_distance(q, m.proxyTriangle(primitive.id()))) <= band * band) trusted = false;
+    }
+    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+      return squaredDistanceToBox(node.bbox()) <= reachSquared;
+    }
+  };
+  Traversal traversal{*this, q, proxy.exactBand * proxy.exactBand * (1 + 1e-9)};
+  proxyTree->traversal(0, traversal);
+  return traversal.trusted;
 }
 
 bool BrepSolid::Impl::classifyExact(const Point3& p) const {
@@ -546,6 +649,198 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
   best.distance = dist.Value();
   best.patch = face;
   return best;
+}
+
+namespace {
+
+// Whether the segment a + t d, t in [0, 1], meets a box grown by a margin on every side (a
+// slab test). Growing the box by the margin contains the ball of that radius around it, so
+// this never rejects a box within the margin of the segment. The reciprocal direction is
+// computed once per segment: the test runs for every AABB node the segment passes.
+class SegmentBoxTest {
+ public:
+  SegmentBoxTest(const Point3& a, const Point3& d) : a_(a) {
+    for (int i = 0; i < 3; ++i) inverse_[i] = d[i] != 0.0 ? 1.0 / d[i] : 0.0;
+    for (int i = 0; i < 3; ++i) parallel_[i] = d[i] == 0.0;
+  }
+  bool meets(const CGAL::Bbox_3& box, double margin) const {
+    double t0, t1;
+    return meets(box, margin, t0, t1);
+  }
+  // Also gives the part [t0, t1] of the segment inside the grown box.
+  bool meets(const CGAL::Bbox_3& box, double margin, double& t0, double& t1) const {
+    t0 = 0.0;
+    t1 = 1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double lo = box.min(i) - margin, hi = box.max(i) + margin;
+      if (parallel_[i]) {
+        if (a_[i] < lo || a_[i] > hi) return false;
+        continue;
+      }
+      double ta = (lo - a_[i]) * inverse_[i], tb = (hi - a_[i]) * inverse_[i];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
+ private:
+  Point3 a_, inverse_;
+  bool parallel_[3];
+};
+
+}  // namespace
+
+std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
+  std::vector<FaceSpan> found;
+  if (!proxyTree) {
+    for (size_t f = 0; f < faces.size(); ++f) found.push_back({static_cast<int>(f), 0.0, 1.0});
+    return found;
+  }
+  // AABB traversal that collects the B-rep faces having a proxy triangle within the face's
+  // crossing band of the segment: the only faces the segment can cross (each face lies
+  // within that band of its own triangles). A hit on the face lies in the grown box of
+  // such a triangle, so the union of those boxes' parts of the segment is where to look.
+  struct Traversal {
+    const Impl& m;
+    SegmentBoxTest boxTest;
+    Kernel::Segment_3 segment;
+    std::vector<int> slot;  // per face: index into `found`, -1 when not found yet
+    std::vector<FaceSpan>& found;
+
+    bool go_further() const { return true; }
+    void intersection(int, const ProxyPrimitive& primitive) {
+      const size_t id = static_cast<size_t>(primitive.id());
+      const int f = m.proxyFaceOfTriangle[id];
+      const double band = m.crossingBand[f];
+      double t0, t1;
+      if (!boxTest.meets(m.proxyTriangleBox[id], band, t0, t1)) return;
+      if (slot[f] >= 0 && found[slot[f]].t0 <= t0 && t1 <= found[slot[f]].t1) return;  // adds nothing
+      // Segment/triangle distance: zero when they meet, else reached at an end of the
+      // segment or on an edge of the triangle.
+      const Kernel::Triangle_3 t = m.proxyTriangle(primitive.id());
+      if (!CGAL::do_intersect(segment, t)) {
+        const double limit = band * band;
+        bool near = CGAL::to_double(CGAL::squared_distance(segment.source(), t)) <= limit ||
+                    CGAL::to_double(CGAL::squared_distance(segment.target(), t)) <= limit;
+        for (int e = 0; e < 3 && !near; ++e)
+          near = CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))) <= limit;
+        if (!near) return;
+      }
+      if (slot[f] < 0) {
+        slot[f] = static_cast<int>(found.size());
+        found.push_back({f, t0, t1});
+      } else {
+        found[slot[f]].t0 = std::min(found[slot[f]].t0, t0);
+        found[slot[f]].t1 = std::max(found[slot[f]].t1, t1);
+      }
+    }
+    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+      return boxTest.meets(node.bbox(), m.crossingReach);
+    }
+  };
+  Traversal traversal{*this, SegmentBoxTest(a, b - a),
+                      Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
+                      std::vector<int>(faces.size(), -1), found};
+  proxyTree->traversal(0, traversal);
+  for (int f : facesWithoutTriangles)
+    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0});
+  return found;
+}
+
+std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, const Point3& b,
+                                                              const std::vector<FaceSpan>& candidates) const {
+  std::vector<BoundaryCrossing> result;
+  if (candidates.empty()) return result;
+  const Point3 d = b - a;
+  const double length = norm(d);
+  const gp_Lin line(toGp(a), gp_Dir(d[0], d[1], d[2]));
+
+  std::unique_ptr<FaceIntersectors> lease;
+  {
+    std::lock_guard<std::mutex> lock(intersectorMutex);
+    if (!idleIntersectors.empty()) {
+      lease = std::move(idleIntersectors.back());
+      idleIntersectors.pop_back();
+    }
+  }
+  if (!lease) {
+    lease = std::make_unique<FaceIntersectors>();
+    lease->byFace.resize(faces.size());
+  }
+  struct Hit {
+    BoundaryCrossing crossing;
+    int solid;
+  };
+  std::vector<Hit> hits;
+  for (const FaceSpan& span : candidates) {
+    const int f = span.face;
+    auto& intersector = lease->byFace[f];
+    if (!intersector) intersector = std::make_unique<IntCurvesFace_Intersector>(faces[f], classifyTolerance);
+    intersector->Perform(line, span.t0 * length, span.t1 * length);
+    if (!intersector->IsDone()) continue;
+    for (int i = 1; i <= intersector->NbPnt(); ++i) {
+      if (intersector->Transition(i) == IntCurveSurface_Tangent) continue;
+      const double w = intersector->WParameter(i);
+      if (w < 0.0 || w > length) continue;
+      gp_Pnt onSurface;
+      gp_Vec du, dv;
+      faceSurface[f]->D1(intersector->UParameter(i), intersector->VParameter(i), onSurface, du, dv);
+      gp_Vec normal = du.Crossed(dv);
+      if (faces[f].Orientation() == TopAbs_REVERSED) normal.Reverse();
+      const double side = normal.X() * d[0] + normal.Y() * d[1] + normal.Z() * d[2];
+      Hit hit;
+      hit.crossing.t = w / length;
+      hit.crossing.point = a + hit.crossing.t * d;
+      hit.crossing.patch = f;
+      hit.solid = solidOfFace[f];
+      if (normal.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude()) {
+        // A pole or an apex: no normal, so the side is read off the classifier just beyond.
+        const double step = std::min(1.0 - hit.crossing.t, 1e-7 * diagonal / length);
+        hit.crossing.entering = step > 0 && classifyExact(a + (hit.crossing.t + step) * d);
+      } else if (side == 0.0) {
+        continue;
+      } else {
+        hit.crossing.entering = side < 0;
+      }
+      hits.push_back(hit);
+    }
+  }
+  {
+    std::lock_guard<std::mutex> lock(intersectorMutex);
+    idleIntersectors.push_back(std::move(lease));
+  }
+
+  std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
+    return x.crossing.t != y.crossing.t ? x.crossing.t < y.crossing.t : x.crossing.patch < y.crossing.patch;
+  });
+  // Along one solid the segment enters and leaves in turn. Two hits in a row in the same
+  // sense are one crossing through the edge two faces share (or a seam) when they are at the
+  // same place: keep the first. Farther apart, one of them is wrong (OpenCASCADE misses a
+  // crossing or finds a spurious one on grazing B-spline faces, BRepIntCurveSurface_Inter
+  // alike): the classifier between them says which one agrees with inside().
+  const double sameEdge = 1e-6 * diagonal / length;
+  std::vector<int> lastOfSolid(solids.size(), -1);  // index into `kept`
+  std::vector<const Hit*> kept;
+  for (const Hit& hit : hits) {
+    int& last = lastOfSolid[hit.solid];
+    if (last >= 0 && kept[last]->crossing.entering == hit.crossing.entering) {
+      const Hit& previous = *kept[last];
+      if (hit.crossing.t - previous.crossing.t <= sameEdge) continue;
+      const bool insideBetween = classifyExact(a + 0.5 * (previous.crossing.t + hit.crossing.t) * d);
+      // Entering twice: inside between them means the second is wrong, else the first.
+      // Leaving twice: inside between them means the first is wrong, else the second.
+      if (insideBetween == hit.crossing.entering) continue;
+      kept[last] = nullptr;
+    }
+    last = static_cast<int>(kept.size());
+    kept.push_back(&hit);
+  }
+  for (const Hit* hit : kept)
+    if (hit) result.push_back(hit->crossing);
+  return result;
 }
 
 // ------------------------------------------------------------------------------------------
@@ -768,6 +1063,19 @@ BoundaryProjection BrepSolid::project(const Point3& p) const {
                 ")");
   }
   return best;
+}
+
+std::vector<BoundaryCrossing> BrepSolid::crossings(const Point3& a, const Point3& b) const {
+  const Impl& m = *impl_;
+  if (distance(a, b) == 0.0) return {};
+  CGAL::Bbox_3 box(m.box.min[0], m.box.min[1], m.box.min[2], m.box.max[0], m.box.max[1], m.box.max[2]);
+  if (!SegmentBoxTest(a, b - a).meets(box, m.classifyTolerance)) return {};
+  try {
+    return m.exactCrossings(a, b, m.facesNearSegment(a, b));
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to intersect a segment with input '" + m.name + "' (" +
+                failure.GetMessageString() + "): check the solid with Part > Check geometry");
+  }
 }
 
 BoundaryProjection BrepSolid::projectOnEdge(const Point3& p, int edgeIndex) const {

@@ -1,5 +1,7 @@
 #include "domain/HierarchicalOracle.h"
 
+#include <algorithm>
+
 #include "Error.h"
 
 namespace oraclemesh {
@@ -46,6 +48,97 @@ bool HierarchicalOracle::coveredByHigherEntry(const Point3& p, int entry) const 
     if (s.project(p).distance > tol) return true;
   }
   return false;
+}
+
+namespace {
+
+// Whether the segment a + t d, t in [0, 1], meets the box grown by `margin`.
+bool segmentMeetsBox(const Point3& a, const Point3& d, const Bbox& box, double margin) {
+  if (box.empty()) return false;
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = box.min[i] - margin, hi = box.max[i] + margin;
+    if (d[i] == 0.0) {
+      if (a[i] < lo || a[i] > hi) return false;
+      continue;
+    }
+    double ta = (lo - a[i]) / d[i], tb = (hi - a[i]) / d[i];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<CompositeCrossing> HierarchicalOracle::crossings(const Point3& a, const Point3& b) const {
+  std::vector<CompositeCrossing> result;
+  const Point3 d = b - a;
+  const double length = norm(d);
+  if (length == 0.0) return result;
+
+  struct Event {
+    BoundaryCrossing crossing;
+    int entry;
+  };
+  std::vector<Event> events;
+  // Each entry's state at t = 0: outside if its first crossing enters, and for an entry the
+  // segment does not cross, its state anywhere on the segment (taken at the midpoint, away
+  // from an endpoint that may lie on its boundary).
+  std::vector<char> inside(entries_.size(), 0);
+  const Point3 middle = a + 0.5 * d;
+  for (size_t i = 0; i < entries_.size(); ++i) {
+    const Source& source = *entries_[i].source;
+    if (!segmentMeetsBox(a, d, source.bbox(), tolerance())) continue;
+    const std::vector<BoundaryCrossing> own = source.crossings(a, b);
+    if (own.empty()) {
+      inside[i] = source.inside(middle);
+      continue;
+    }
+    inside[i] = !own.front().entering;
+    for (const BoundaryCrossing& c : own) events.push_back({c, static_cast<int>(i)});
+  }
+  std::stable_sort(events.begin(), events.end(),
+                   [](const Event& x, const Event& y) { return x.crossing.t < y.crossing.t; });
+
+  auto decider = [&]() {
+    for (size_t i = 0; i < entries_.size(); ++i)
+      if (inside[i]) return static_cast<int>(i);
+    return -1;
+  };
+  auto labelOf = [&](int entry) {
+    return entry < 0 || entries_[entry].role == Role::Cut ? 0 : entries_[entry].material;
+  };
+  const double sameT = tolerance() / length;
+  for (size_t first = 0; first < events.size();) {
+    size_t last = first;
+    while (last + 1 < events.size() && events[last + 1].crossing.t - events[first].crossing.t <= sameT) ++last;
+    const int deciderBefore = decider();
+    for (size_t k = first; k <= last; ++k) inside[events[k].entry] = events[k].crossing.entering;
+    const int deciderAfter = decider();
+    const int before = labelOf(deciderBefore), after = labelOf(deciderAfter);
+    if (before != after) {
+      // The boundary crossed here belongs to the entry deciding one of the two sides.
+      const Event* chosen = &events[first];
+      for (size_t k = first; k <= last; ++k)
+        if (events[k].entry == deciderBefore || events[k].entry == deciderAfter) {
+          if (chosen->entry != deciderBefore && chosen->entry != deciderAfter) chosen = &events[k];
+          else if (events[k].entry < chosen->entry) chosen = &events[k];
+        }
+      CompositeCrossing crossing;
+      crossing.t = chosen->crossing.t;
+      crossing.point = chosen->crossing.point;
+      crossing.entry = chosen->entry;
+      crossing.patch = chosen->crossing.patch;
+      crossing.labelBefore = before;
+      crossing.labelAfter = after;
+      result.push_back(crossing);
+    }
+    first = last + 1;
+  }
+  return result;
 }
 
 BoundaryProjection HierarchicalOracle::projectOnBoundary(const Point3& p, int* entry) const {

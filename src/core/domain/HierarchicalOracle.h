@@ -11,6 +11,17 @@ namespace oraclemesh {
 
 enum class Role { Material, Cut };
 
+// A place where a segment a->b crosses the boundary of the composite domain: the material
+// label changes there (label 0 = outside, as label()).
+struct CompositeCrossing {
+  double t = 0.0;  // the point is a + t (b - a), t in [0, 1]
+  Point3 point{};
+  int entry = -1;  // index of the entry whose boundary is crossed
+  int patch = -1;  // that entry's boundary patch (B-rep face index, ...)
+  int labelBefore = 0;
+  int labelAfter = 0;
+};
+
 struct OracleEntry {
   SourcePtr source;
   Role role = Role::Material;
@@ -39,6 +50,17 @@ class HierarchicalOracle {
   // Nearest point on any entry's boundary (used to put mesh nodes exactly on the CAD faces).
   // `entry` receives the index of the entry whose boundary was nearest.
   BoundaryProjection projectOnBoundary(const Point3& p, int* entry = nullptr) const;
+
+  // Where the segment a->b changes label, sorted by t. Built from the entries' own exact
+  // crossings (Source::crossings), without sampling: each entry's inside/outside state along
+  // the segment follows from its crossings (entering or leaving), the composite label from
+  // the states by priority as in label() (a cut entry inside yields 0 for itself and every
+  // lower entry), and only the crossings where that label changes are kept. Crossings of
+  // several entries closer than tolerance() along the segment (coincident faces, a pin
+  // ending on a plate face) are one place: its entry is the highest-priority entry crossed
+  // there that decides the label on one side. An entry whose boundary the segment does not
+  // cross keeps the state of the segment's midpoint.
+  std::vector<CompositeCrossing> crossings(const Point3& a, const Point3& b) const;
 
  private:
   std::vector<OracleEntry> entries_;

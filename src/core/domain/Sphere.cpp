@@ -63,6 +63,35 @@ std::vector<BoundarySample> Sphere::boundarySamples(double spacing) const {
   return samples;
 }
 
+std::vector<BoundaryCrossing> Sphere::crossings(const Point3& a, const Point3& b) const {
+  std::vector<BoundaryCrossing> result;
+  const Point3 d = b - a;
+  const Point3 m = a - center_;
+  // t^2 dd + 2 t md + (mm - r^2) = 0, solved without cancellation: the larger-magnitude root
+  // from the usual formula, the other from the product of the roots.
+  const double dd = dot(d, d);
+  if (dd == 0.0) return result;
+  const double md = dot(m, d);
+  const double c = dot(m, m) - radius_ * radius_;
+  const double discriminant = md * md - dd * c;
+  if (!(discriminant > 0.0)) return result;  // misses or only touches
+  const double q = -(md + std::copysign(std::sqrt(discriminant), md));
+  double t0 = q / dd, t1 = q != 0.0 ? c / q : t0;
+  if (t0 > t1) std::swap(t0, t1);
+  auto add = [&](double t, bool entering) {
+    if (t < 0.0 || t > 1.0) return;
+    BoundaryCrossing crossing;
+    crossing.t = t;
+    crossing.point = a + t * d;
+    crossing.patch = 0;
+    crossing.entering = entering;
+    result.push_back(crossing);
+  };
+  add(t0, true);
+  add(t1, false);
+  return result;
+}
+
 double Sphere::volume() const {
   constexpr double kPi = 3.14159265358979323846;
   return 4.0 / 3.0 * kPi * radius_ * radius_ * radius_;

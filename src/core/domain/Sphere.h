@@ -16,6 +16,9 @@ class Sphere : public Source {
   bool inside(const Point3& p) const override;
   BoundaryProjection project(const Point3& p) const override;
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
+  // Closed form: the roots of |a + t (b - a) - center|^2 = radius^2 in [0, 1]; a tangent
+  // segment (double root) does not cross and gives nothing. Patch 0.
+  std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
   double volume() const override;
 
  private:

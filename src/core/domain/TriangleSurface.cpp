@@ -31,7 +31,8 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using KPoint = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<KPoint>;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Traits = CGAL::AABB_traits<Kernel, Primitive>;
+using Tree = CGAL::AABB_tree<Traits>;
 using Side = CGAL::Side_of_triangle_mesh<Mesh, Kernel, CGAL::Default, Tree>;
 
 struct TriangleSurface::Impl {
@@ -41,7 +42,35 @@ struct TriangleSurface::Impl {
   std::unique_ptr<Side> side;
   Bbox box;
   double volume = 0;
+  std::vector<std::size_t> component;  // connected component of each face
+  std::size_t componentCount = 0;
+
+  void findComponents();
 };
+
+void TriangleSurface::Impl::findComponents() {
+  component.assign(mesh.number_of_faces(), 0);
+  componentCount = 0;
+  std::vector<char> visited(mesh.number_of_faces(), 0);
+  for (auto f : mesh.faces()) {
+    if (visited[f]) continue;
+    std::vector<Mesh::Face_index> stack{f};
+    visited[f] = 1;
+    while (!stack.empty()) {
+      const auto g = stack.back();
+      stack.pop_back();
+      component[g] = componentCount;
+      for (auto h : CGAL::halfedges_around_face(mesh.halfedge(g), mesh)) {
+        const auto n = mesh.face(mesh.opposite(h));
+        if (n != Mesh::null_face() && !visited[n]) {
+          visited[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+    ++componentCount;
+  }
+}
 
 TriangleSurface::TriangleSurface() : impl_(std::make_unique<Impl>()) {}
 TriangleSurface::~TriangleSurface() = default;
@@ -265,6 +294,7 @@ std::shared_ptr<TriangleSurface> TriangleSurface::validated(std::vector<Point3> 
   m.tree = std::make_unique<Tree>(faces(m.mesh).first, faces(m.mesh).second, m.mesh);
   m.tree->accelerate_distance_queries();  // built now, so that const queries never build
   m.side = std::make_unique<Side>(*m.tree);
+  m.findComponents();
   return surface;
 }
 
@@ -293,31 +323,8 @@ std::vector<BoundarySample> TriangleSurface::boundarySamples(double spacing) con
   const Mesh& mesh = impl_->mesh;
   std::vector<BoundarySample> samples;
   std::set<std::array<long long, 3>> used;
-  std::vector<char> componentSeen;
-  std::vector<std::size_t> component(mesh.number_of_faces(), 0);
-  std::size_t components = 0;
-  {
-    std::vector<char> visited(mesh.number_of_faces(), 0);
-    for (auto f : mesh.faces()) {
-      if (visited[f]) continue;
-      std::vector<Mesh::Face_index> stack{f};
-      visited[f] = 1;
-      while (!stack.empty()) {
-        const auto g = stack.back();
-        stack.pop_back();
-        component[g] = components;
-        for (auto h : CGAL::halfedges_around_face(mesh.halfedge(g), mesh)) {
-          const auto n = mesh.face(mesh.opposite(h));
-          if (n != Mesh::null_face() && !visited[n]) {
-            visited[n] = 1;
-            stack.push_back(n);
-          }
-        }
-      }
-      ++components;
-    }
-  }
-  componentSeen.assign(components, 0);
+  const std::vector<std::size_t>& component = impl_->component;
+  std::vector<char> componentSeen(impl_->componentCount, 0);
   for (auto f : mesh.faces()) {
     const auto h = mesh.halfedge(f);
     const KPoint a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h)),
@@ -335,6 +342,94 @@ std::vector<BoundarySample> TriangleSurface::boundarySamples(double spacing) con
     samples.push_back({centroid, {n.x() / len, n.y() / len, n.z() / len}, static_cast<int>(f)});
   }
   return samples;
+}
+
+}  // namespace oraclemesh
+
+namespace oraclemesh {
+
+std::vector<BoundaryCrossing> TriangleSurface::crossings(const Point3& a, const Point3& b) const {
+  const Impl& m = *impl_;
+  std::vector<BoundaryCrossing> result;
+  const Point3 d = b - a;
+  const double dd = dot(d, d);
+  if (dd == 0.0) return result;
+  const double length = std::sqrt(dd);
+  const KPoint ka(a[0], a[1], a[2]), kb(b[0], b[1], b[2]);
+  using Hit = boost::optional<Traits::Intersection_and_primitive_id<Kernel::Segment_3>::Type>;
+  std::vector<Hit> raw;
+  m.tree->all_intersections(Kernel::Segment_3(ka, kb), std::back_inserter(raw));
+  if (raw.empty()) return result;
+
+  // One record per triangle hit: the parameter range (a point, or the overlap of a segment
+  // lying in the triangle's plane) and the side the segment goes to.
+  struct TriangleHit {
+    double t0, t1;
+    int sign;  // sign of (outward normal . direction); 0 when the segment lies in the plane
+    std::size_t component;
+  };
+  auto parameter = [&](const KPoint& p) {
+    return std::clamp(dot(Point3{p.x(), p.y(), p.z()} - a, d) / dd, 0.0, 1.0);
+  };
+  std::vector<TriangleHit> hits;
+  for (const Hit& hit : raw) {
+    const Mesh::Face_index face = hit->second;
+    TriangleHit h{0, 0, 0, m.component[face]};
+    if (const KPoint* p = boost::get<KPoint>(&hit->first)) {
+      h.t0 = h.t1 = parameter(*p);
+      const auto he = m.mesh.halfedge(face);
+      const KPoint& p0 = m.mesh.point(m.mesh.source(he));
+      const KPoint& p1 = m.mesh.point(m.mesh.target(he));
+      const KPoint& p2 = m.mesh.point(m.mesh.target(m.mesh.next(he)));
+      const double s = CGAL::to_double(CGAL::cross_product(p1 - p0, p2 - p0) * Kernel::Vector_3(d[0], d[1], d[2]));
+      h.sign = (s > 0) - (s < 0);
+    } else if (const Kernel::Segment_3* overlap = boost::get<Kernel::Segment_3>(&hit->first)) {
+      h.t0 = parameter(overlap->source());
+      h.t1 = parameter(overlap->target());
+      if (h.t0 > h.t1) std::swap(h.t0, h.t1);
+    } else {
+      continue;
+    }
+    hits.push_back(h);
+  }
+  std::sort(hits.begin(), hits.end(), [](const TriangleHit& x, const TriangleHit& y) { return x.t0 < y.t0; });
+
+  // Hits closer than the tolerance are one place on the surface: the triangles around an
+  // edge or a vertex the segment passes through.
+  const double mergeT = 1e-10 * std::max(m.box.diagonal(), length) / length;
+  struct Cluster {
+    double t0, t1;
+    std::vector<const TriangleHit*> hits;
+  };
+  std::vector<Cluster> clusters;
+  for (const TriangleHit& h : hits) {
+    if (clusters.empty() || h.t0 > clusters.back().t1 + mergeT)
+      clusters.push_back({h.t0, h.t1, {}});
+    clusters.back().t1 = std::max(clusters.back().t1, h.t1);
+    clusters.back().hits.push_back(&h);
+  }
+  auto at = [&](double t) { return a + t * d; };
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    const Cluster& c = clusters[i];
+    BoundaryCrossing crossing;
+    crossing.patch = static_cast<int>(c.hits.front()->component);
+    if (c.hits.size() == 1 && c.hits.front()->sign != 0) {
+      // Through the interior of one triangle: the normal tells the side.
+      crossing.entering = c.hits.front()->sign < 0;
+    } else {
+      // Through an edge or a vertex, or along the surface: whether it crosses or only
+      // touches is read from the sides of the surface between this place and its neighbours.
+      const double before = 0.5 * ((i == 0 ? 0.0 : clusters[i - 1].t1) + c.t0);
+      const double after = 0.5 * (c.t1 + (i + 1 == clusters.size() ? 1.0 : clusters[i + 1].t0));
+      const bool insideBefore = inside(at(before)), insideAfter = inside(at(after));
+      if (insideBefore == insideAfter) continue;
+      crossing.entering = insideAfter;
+    }
+    crossing.t = 0.5 * (c.t0 + c.t1);
+    crossing.point = at(crossing.t);
+    result.push_back(crossing);
+  }
+  return result;
 }
 
 }  // namespace oraclemesh

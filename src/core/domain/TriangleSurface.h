@@ -31,6 +31,10 @@ class TriangleSurface : public Source {
   bool inside(const Point3& p) const override;
   BoundaryProjection project(const Point3& p) const override;  // patch = triangle index
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
+  // Segment/triangle intersections on the AABB tree; patch = index of the connected
+  // component of the surface hit. A segment through an edge or a vertex gives one crossing
+  // (or none when it only touches the surface there).
+  std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
   double volume() const override;
   size_t triangleCount() const;
 
