@@ -60,3 +60,36 @@ def test_crash_of_the_core_is_an_error_not_a_crash():
     with pytest.raises(oraclemesh.Error) as err:
         oraclemesh.run_isolated(sphere_job(order=1), progress=crash)
     assert "crashed" in str(err.value) and "signal %d" % signal.SIGSEGV in str(err.value)
+
+
+def test_worker_crash_hook_is_a_real_segfault(monkeypatch):
+    # The FreeCAD tests force a crash through this hook; it must be a real SIGSEGV of the child.
+    monkeypatch.setenv("ORACLEMESH_WORKER_CRASH", "refine")
+    with pytest.raises(oraclemesh.Error) as err:
+        oraclemesh.run_isolated(sphere_job(order=1))
+    assert "crashed" in str(err.value) and "signal %d" % signal.SIGSEGV in str(err.value)
+    assert worker_pids() == []
+
+
+def test_cancel_event_ends_the_child_without_a_progress_report():
+    # The event is set from another thread and no progress callback follows (as in sliver
+    # perturbation, which reports nothing): the child must still end at once.
+    import threading
+    import time
+    cancel = threading.Event()
+    marks = {}
+
+    def progress(phase, fraction):
+        if "set" not in marks:
+            def set_later():
+                marks["set"] = time.time()
+                cancel.set()
+            threading.Timer(0.3, set_later).start()
+            marks["set"] = None
+        return True
+
+    with pytest.raises(oraclemesh.Cancelled):
+        oraclemesh.run_isolated(sphere_job(order=2, criteria={"default": {"cell_size": 1.0}}),
+                                progress=progress, cancel=cancel)
+    assert time.time() - marks["set"] < 1.0
+    assert worker_pids() == []

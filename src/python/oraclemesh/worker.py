@@ -5,7 +5,13 @@ OpenCASCADE) ends this process, not FreeCAD. Speaks to the parent through:
   stdout  one line per progress report: "progress <fraction> <phase>"
   RESULT  an .npz with the result arrays and the report (on success, exit 0)
   RESULT.error.json  {"type": "InputError", "message": ...} (on an oraclemesh.Error, exit 2)
+
+Test hook: ORACLEMESH_WORKER_CRASH=<phase> makes this process die of a real segmentation
+fault when the core first reports that phase, so callers (FreeCAD tests) can check that a
+crash of the native code becomes an error message in the parent.
 """
+import ctypes
+import os
 import json
 import sys
 
@@ -15,7 +21,12 @@ import oraclemesh
 
 
 def main(job_path, result_path):
+    crash_phase = os.environ.get("ORACLEMESH_WORKER_CRASH")
+
     def progress(phase, fraction):
+        if phase == crash_phase:
+            sys.stdout.flush()
+            ctypes.string_at(0)  # reads address 0: SIGSEGV, as a bug in CGAL would
         sys.stdout.write("progress %.6f %s\n" % (fraction, phase))
         sys.stdout.flush()
 
