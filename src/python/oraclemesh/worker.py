@@ -20,7 +20,21 @@ import numpy as np
 import oraclemesh
 
 
+def die_with_parent():
+    """Linux: end this process when the caller (FreeCAD) ends, so a killed or crashed caller
+    leaves no meshing process behind."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        parent = os.getppid()
+        libc.prctl(1, 9)  # PR_SET_PDEATHSIG, SIGKILL
+        if os.getppid() != parent:  # the parent ended before prctl took effect
+            os._exit(3)
+    except (OSError, AttributeError):
+        pass  # not Linux: the caller's cancel still kills this process
+
+
 def main(job_path, result_path):
+    die_with_parent()
     crash_phase = os.environ.get("ORACLEMESH_WORKER_CRASH")
 
     def progress(phase, fraction):
