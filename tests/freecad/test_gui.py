@@ -153,6 +153,14 @@ def test_core_failures_show_an_error_and_change_nothing(gui):
 
 
 @needs_gui
+def test_undo_and_preferences(gui):
+    assert gui["undo"] == {"applied": 45.0, "after_undo": 30.0}
+    assert gui["prefs_loaded"] == {"order": 2, "engine": "cgal"}
+    assert gui["prefs_saved"]["ElementOrder"] == 1 and gui["prefs_saved"]["Preset"] == "coarse"
+    assert gui["thesis_engine_enabled"] is False  # listed, not selectable in this version
+
+
+@needs_gui
 def test_double_click_histogram_export(gui):
     assert gui["closed"] and gui["reopened"]
     h = gui["histogram"]

@@ -270,6 +270,25 @@ def check(out):
     out["after_errors_ok"] = panel.mesh()
     out["after_errors"] = mesh_state(mesh)
 
+    step("undo of Apply")
+    panel.sharp_angle.setValue(45.0)
+    panel.apply()
+    applied = mesh.SharpAngle.Value
+    doc.undo()
+    out["undo"] = {"applied": applied, "after_undo": mesh.SharpAngle.Value}
+    panel.load_options()
+
+    step("preferences page")
+    from oraclemesh_fc import preferences
+    page = preferences.PreferencePage()
+    page.loadSettings()
+    out["prefs_loaded"] = {"order": page.order.currentData(), "engine": page.engine.currentData()}
+    page.order.setCurrentIndex(page.order.findData(1))
+    page.preset.setCurrentIndex(page.preset.findData("coarse"))
+    page.saveSettings()
+    out["prefs_saved"] = preferences.defaults()
+    out["thesis_engine_enabled"] = page.engine.model().item(page.engine.findData("thesis")).isEnabled()
+
     step("close the panel, double click opens it again")
     panel.accept()
     pump()
