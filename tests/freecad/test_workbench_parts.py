@@ -19,6 +19,9 @@ def test_workbench_parts(run_freecad):
     assert r["flat_tet_min_dihedral"] < 1.0
     assert abs(r["preset_moderate"] - round(r["bbox_diagonal"] / 15, 3)) < 1e-9
     assert r["preset_automatic"] == 0.0
+    # The wedge's 10 degree edge (the only one below 15 degrees); box and cylinder have none.
+    assert len(r["wedge_small_angles"]) == 1 and abs(r["wedge_small_angles"][0] - 10) < 1e-6
+    assert r["box_small_angles"] == [] and r["cylinder_small_angles"] == []
 
     # Group of the rod named by InputMaterialNames, the block by its label.
     assert set(r["groups"]) == {"Steel_Volumes", "Block_Volumes"}

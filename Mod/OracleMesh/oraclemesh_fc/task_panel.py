@@ -10,7 +10,8 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
 - Per-material criteria (cell size, facet distance, facet size, radius-edge ratio; empty =
   the global value), a global cell size and coarse / moderate / fine presets.
 - Engine, sharp-edge angle, junctions, element order, optimisation.
-- The report of the last mesh: tets and volume per material, dihedral angles, warnings.
+- The report of the last mesh: tets and volume per material, dihedral angles, warnings (the
+  core's, and small angles between the faces of an input, see input_checks.py).
 """
 import json
 
@@ -410,6 +411,8 @@ def report_html(obj):
                     q.get("min_dihedral_deg", float("nan")), q.get("max_dihedral_deg", float("nan")),
                     q.get("max_radius_edge_ratio", float("nan"))))
     warnings = list(report.get("warnings", []))
+    from .input_checks import input_warnings
+    warnings += input_warnings(obj)
     if warnings:
         parts.append("<p><b>Warnings</b></p><ul>%s</ul>"
                      % "".join("<li>%s</li>" % esc(w) for w in warnings))

@@ -22,6 +22,17 @@ def check(params):
     flat = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.3, 0.3, 1e-3]], float)
     out["flat_tet_min_dihedral"] = float(quality.min_dihedral_angles(flat, [[0, 1, 2, 3]])[0])
 
+    from oraclemesh_fc import input_checks
+    import Part
+    # A wedge prism: a triangle with a 10 degree corner, extruded; a box has none.
+    tri = Part.makePolygon([FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(20, 0, 0),
+                            FreeCAD.Vector(20, 20 * math.tan(math.radians(10)), 0),
+                            FreeCAD.Vector(0, 0, 0)])
+    wedge = Part.Face(tri).extrude(FreeCAD.Vector(0, 0, 5))
+    out["wedge_small_angles"] = [a for _, a in input_checks.small_edge_angles(wedge)]
+    out["box_small_angles"] = input_checks.small_edge_angles(Part.makeBox(5, 5, 5))
+    out["cylinder_small_angles"] = input_checks.small_edge_angles(Part.makeCylinder(3, 5))
+
     doc = FreeCAD.newDocument("Parts")
     block = h.box(doc, "Block", 0, 0, 0, 20, 10, 10)
     rod = doc.addObject("Part::Cylinder", "Rod")
