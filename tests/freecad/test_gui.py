@@ -153,6 +153,13 @@ def test_core_failures_show_an_error_and_change_nothing(gui):
 
 
 @needs_gui
+def test_drag_and_drop_reorders(gui):
+    assert gui["rows_after_drop"] == ["CornerCut", "Pin", "Plate"]
+    assert gui["role_widgets_after_drop"] == ["cut", "material", "material"]
+    assert gui["rows_after_second_drop"] == ["CornerCut", "Plate", "Pin"]
+
+
+@needs_gui
 def test_undo_and_preferences(gui):
     assert gui["undo"] == {"applied": 45.0, "after_undo": 30.0}
     assert gui["prefs_loaded"] == {"order": 2, "engine": "cgal"}

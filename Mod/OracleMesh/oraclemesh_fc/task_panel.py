@@ -3,7 +3,8 @@
 Everything it shows lives in the mesh object's properties; the panel edits a copy and writes
 it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object as it was.
 
-- Inputs in priority order (the first wins where inputs overlap), moved with Up/Down; per
+- Inputs in priority order (the first wins where inputs overlap), moved with Up/Down or by
+  dragging a row onto another; per
   input its role (material or cut) and its material: a FemMaterial of the analysis (the input
   is then put into that material's References, which is what names the volume group and what
   FreeCAD's CalculiX writer reads) or a free name (group '<name>_Volumes').
@@ -46,6 +47,29 @@ class Row:
 
     def __init__(self, obj, role, material, sizes):
         self.obj, self.role, self.material, self.sizes = obj, role, material, sizes
+
+
+class InputTable(QtGui.QTableWidget):
+    """The inputs table; a row dragged onto another row moves there (priority order).
+
+    Qt's own row move would drop the role and material combo boxes of the moved row, so the
+    drop only tells the panel which row goes where and the panel rebuilds the table."""
+
+    def __init__(self, on_move):
+        super().__init__(0, 3)
+        self.on_move = on_move
+        self.setDragEnabled(True)
+        self.setAcceptDrops(True)
+        self.setDragDropMode(QtGui.QAbstractItemView.InternalMove)
+        self.setDropIndicatorShown(True)
+
+    def dropEvent(self, event):
+        rows = self.selectionModel().selectedRows()
+        target = self.rowAt(event.pos().y())
+        event.setDropAction(QtCore.Qt.IgnoreAction)
+        event.accept()
+        if rows:
+            self.on_move(rows[0].row(), self.rowCount() - 1 if target < 0 else target)
 
 
 class TaskPanel:
@@ -138,7 +162,7 @@ class TaskPanel:
 
         box = QtGui.QGroupBox("Inputs (highest priority first: the first wins where they overlap)")
         v = QtGui.QVBoxLayout(box)
-        self.inputs = QtGui.QTableWidget(0, 3)
+        self.inputs = InputTable(self.move_row)
         self.inputs.setHorizontalHeaderLabels(["Input", "Role", "Material"])
         self.inputs.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
         self.inputs.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
@@ -307,11 +331,15 @@ class TaskPanel:
     def move_selected(self, step):
         """Move the selected input up (step -1, higher priority) or down (+1)."""
         i = self.selected_row()
-        j = i + step
-        if i < 0 or not 0 <= j < len(self.rows):
+        if i >= 0:
+            self.move_row(i, i + step)
+
+    def move_row(self, i, j):
+        """Move input i to position j (up/down buttons, drag and drop)."""
+        if not (0 <= i < len(self.rows) and 0 <= j < len(self.rows)) or i == j:
             return
         self.read_tables()
-        self.rows[i], self.rows[j] = self.rows[j], self.rows[i]
+        self.rows.insert(j, self.rows.pop(i))
         self.refresh_inputs()
         self.select_row(j)
 

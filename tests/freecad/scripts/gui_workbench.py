@@ -270,6 +270,25 @@ def check(out):
     out["after_errors_ok"] = panel.mesh()
     out["after_errors"] = mesh_state(mesh)
 
+    step("drag and drop in the inputs table")
+    from PySide import QtGui
+    table = panel.inputs
+    table.selectRow(2)  # Pin, dropped onto row 1 (Plate): Pin gets priority back
+    target = table.visualRect(table.model().index(1, 0)).center()
+    mime = table.model().mimeData([table.model().index(2, 0)])
+    drop = QtGui.QDropEvent(QtCore.QPointF(target), QtCore.Qt.MoveAction, mime,
+                            QtCore.Qt.LeftButton, QtCore.Qt.NoModifier)
+    table.dropEvent(drop)
+    out["rows_after_drop"] = [r.obj.Name for r in panel.rows]
+    out["role_widgets_after_drop"] = [table.cellWidget(i, 1).currentText()
+                                      for i in range(table.rowCount())]
+    table.selectRow(1)
+    table.dropEvent(QtGui.QDropEvent(
+        QtCore.QPointF(table.visualRect(table.model().index(2, 0)).center()),
+        QtCore.Qt.MoveAction, table.model().mimeData([table.model().index(1, 0)]),
+        QtCore.Qt.LeftButton, QtCore.Qt.NoModifier))
+    out["rows_after_second_drop"] = [r.obj.Name for r in panel.rows]
+
     step("undo of Apply")
     panel.sharp_angle.setValue(45.0)
     panel.apply()
