@@ -149,6 +149,9 @@ def test_core_failures_show_an_error_and_change_nothing(gui):
     assert not crash["ok"] and len(crash["messages"]) == 1
     assert "crashed" in crash["messages"][0] and "signal 11" in crash["messages"][0]
     assert crash["mesh_kept"] and crash["document_kept"] and crash["workers_left"] == []
+    cell = gui["bad_cell"]
+    assert not cell["applied"] and cell["sizes_kept"]
+    assert "Facet size of 'Plate'" in cell["report"] and "abc" in cell["report"]
     assert gui["after_errors_ok"] and gui["after_errors"] == gui["mesh2"]
 
 

@@ -232,7 +232,7 @@ class TaskPanel:
         actions = QtGui.QHBoxLayout()
         self.apply_button = QtGui.QPushButton("Apply")
         self.mesh_button = QtGui.QPushButton("Mesh")
-        self.apply_button.clicked.connect(self.apply)
+        self.apply_button.clicked.connect(self.apply_clicked)
         self.mesh_button.clicked.connect(self.mesh)
         actions.addWidget(self.apply_button)
         actions.addWidget(self.mesh_button)
@@ -364,6 +364,14 @@ class TaskPanel:
         self.cell_size.setValue(preferences.preset_cell_size(name, [r.obj for r in self.rows]))
 
     # ------------------------------------------------------------------ actions
+
+    def apply_clicked(self):
+        try:
+            self.apply()
+        except jobmod.MeshInputError as e:  # a bad table cell: say which, change nothing
+            self.report.setPlainText(str(e))
+            return False
+        return True
 
     def mesh(self):
         """Apply, then recompute the mesh object (progress dialog; errors shown by the object)."""

@@ -256,6 +256,13 @@ def check(out):
                        "input_sizes": dict(mesh.InputSizes)}
     panel.criteria.item(plate_row, 0).setText("")
 
+    step("a cell that is not a number: Apply refuses it, nothing changes")
+    sizes_before = dict(mesh.InputSizes)
+    panel.criteria.item(plate_row, 2).setText("abc")
+    out["bad_cell"] = {"applied": panel.apply_clicked(), "report": panel.report.toPlainText(),
+                       "sizes_kept": dict(mesh.InputSizes) == sizes_before}
+    panel.criteria.item(plate_row, 2).setText("")
+
     step("forced crash of the core")
     os.environ["ORACLEMESH_WORKER_CRASH"] = "refine"
     n_shown = len(shown)
