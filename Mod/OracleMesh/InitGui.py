@@ -1,4 +1,5 @@
-# OracleMesh workbench, GUI part: a toolbar and a menu with "Mesh selection with OracleMesh".
+# OracleMesh workbench, GUI part: toolbar and menu (mesh selection, edit, export, quality
+# histogram) and the preferences page.
 
 
 class OracleMeshWorkbench(Workbench):  # noqa: F821 (Workbench is provided by FreeCAD)
@@ -10,10 +11,12 @@ class OracleMeshWorkbench(Workbench):  # noqa: F821 (Workbench is provided by Fr
         self.__class__.Icon = icon_path()
 
     def Initialize(self):
-        from oraclemesh_fc import commands
+        import FreeCADGui
+        from oraclemesh_fc import commands, preferences
         names = commands.register()
         self.appendToolbar("OracleMesh", names)
         self.appendMenu("OracleMesh", names)
+        FreeCADGui.addPreferencePage(preferences.PreferencePage, "OracleMesh")
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"

@@ -60,3 +60,71 @@ def test_crash_of_the_core_is_an_error_not_a_crash():
     with pytest.raises(oraclemesh.Error) as err:
         oraclemesh.run_isolated(sphere_job(order=1), progress=crash)
     assert "crashed" in str(err.value) and "signal %d" % signal.SIGSEGV in str(err.value)
+
+
+def test_worker_crash_hook_is_a_real_segfault(monkeypatch):
+    # The FreeCAD tests force a crash through this hook; it must be a real SIGSEGV of the child.
+    monkeypatch.setenv("ORACLEMESH_WORKER_CRASH", "refine")
+    with pytest.raises(oraclemesh.Error) as err:
+        oraclemesh.run_isolated(sphere_job(order=1))
+    assert "crashed" in str(err.value) and "signal %d" % signal.SIGSEGV in str(err.value)
+    assert worker_pids() == []
+
+
+def test_cancel_event_ends_the_child_without_a_progress_report():
+    # The event is set from another thread and no progress callback follows (as in sliver
+    # perturbation, which reports nothing): the child must still end at once.
+    import threading
+    import time
+    cancel = threading.Event()
+    marks = {}
+
+    def progress(phase, fraction):
+        if "set" not in marks:
+            def set_later():
+                marks["set"] = time.time()
+                cancel.set()
+            threading.Timer(0.3, set_later).start()
+            marks["set"] = None
+        return True
+
+    with pytest.raises(oraclemesh.Cancelled):
+        oraclemesh.run_isolated(sphere_job(order=2, criteria={"default": {"cell_size": 1.0}}),
+                                progress=progress, cancel=cancel)
+    assert time.time() - marks["set"] < 1.0
+    assert worker_pids() == []
+
+
+def test_worker_ends_when_its_caller_is_killed(tmp_path):
+    # A caller (FreeCAD) killed mid-mesh must not leave the meshing process running, also in
+    # phases that write no progress (a broken stdout pipe would not end the worker then). The
+    # worker's stdout goes to a file here, so only the parent-death signal can end it.
+    import json
+    import subprocess
+    import sys
+    import time
+    job = tmp_path / "job.json"
+    job.write_text(json.dumps(sphere_job(order=2, criteria={"default": {"cell_size": 0.4}})))
+    caller = subprocess.Popen(
+        [sys.executable, "-c",
+         "import subprocess, sys, time\n"
+         "out = open(sys.argv[2], 'w')\n"
+         "w = subprocess.Popen([sys.executable, '-m', 'oraclemesh.worker', sys.argv[1], "
+         "sys.argv[3]], stdout=out)\n"
+         "print(w.pid, flush=True)\n"
+         "time.sleep(120)\n",
+         str(job), str(tmp_path / "progress.txt"), str(tmp_path / "result.npz")],
+        stdout=subprocess.PIPE, text=True, env=dict(os.environ))
+    child = int(caller.stdout.readline())
+    time.sleep(1.0)  # the worker is meshing (the job takes about 25 s)
+    caller.kill()
+    caller.wait()
+    time.sleep(0.5)
+    try:
+        with open("/proc/%d/stat" % child) as f:
+            state = f.read().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        state = "gone"
+    if state not in ("gone", "Z"):
+        os.kill(child, signal.SIGKILL)
+    assert state in ("gone", "Z"), "the worker outlived its caller (state %s)" % state

@@ -188,7 +188,7 @@ def solid_references(materials, obj):
                if ref[0] == obj for sub in _subnames(ref))
 
 
-def volume_groups(material_entries, materials):
+def volume_groups(material_entries, materials, names=None):
     """[(group_name, [material ids])] for the material inputs [(obj, material_id)] or
     [(obj, material_id, solid number)] (one entry per solid of a compound whose solids FEM
     materials reference one by one).
@@ -198,7 +198,8 @@ def volume_groups(material_entries, materials):
     `<material.Name>_`, and uses the groups only if their sizes add up to the volume count.
     So each FEM material gets exactly one group, and inputs it references are merged into it.
     A material with empty References is FreeCAD's "everything else" material: it takes the
-    inputs no other material references.
+    inputs no other material references. names ({input Name: material name}) names the
+    group of an input no FEM material references (instead of its Label).
     """
     by_name = {}
     order = []
@@ -214,6 +215,8 @@ def volume_groups(material_entries, materials):
                 % (what, ", ".join(m.Label for m in owners), owners[0].Label))
         if owners:
             name = owners[0].Name + "_Volumes"
+        elif (names or {}).get(obj.Name):
+            name = names[obj.Name] + "_Volumes"
         elif fallback:
             name = fallback[0].Name + "_Volumes"
         else:
@@ -317,8 +320,10 @@ def build_job(mesh_obj):
     job = {
         "inputs": job_inputs,
         "criteria": {"default": default, "materials": per_material},
-        "features": ({"sharp_angle_deg": _value(mesh_obj.SharpAngle)}
+        "features": ({"sharp_angle_deg": _value(mesh_obj.SharpAngle),
+                      "junctions": bool(getattr(mesh_obj, "Junctions", True))}
                      if _value(mesh_obj.SharpAngle) > 0 else False),
+        "engine": str(getattr(mesh_obj, "Engine", "cgal")),
         "element_order": int(mesh_obj.ElementOrder),
         "optimize": {"perturb": bool(mesh_obj.Optimize), "exude": bool(mesh_obj.Optimize)},
         "seed": int(mesh_obj.Seed),
@@ -332,5 +337,5 @@ def build_job(mesh_obj):
         if mesh_obj.OutputReport:
             job["output"]["report"] = mesh_obj.OutputReport
 
-    groups = volume_groups(material_entries, materials)
+    groups = volume_groups(material_entries, materials, dict(getattr(mesh_obj, "InputMaterialNames", {})))
     return job, groups, described

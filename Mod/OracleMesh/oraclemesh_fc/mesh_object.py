@@ -62,10 +62,22 @@ PROPERTIES = (
      "Mesh files the core also writes (.vtu, .inp), optional", None),
     ("App::PropertyString", "OutputReport", "Output",
      "Path of the JSON report the core also writes, optional", ""),
+    ("App::PropertyEnumeration", "Engine", "Mesh",
+     "Meshing engine: cgal (CGAL Mesh_3); the thesis' Rule Set T engine is not in this version",
+     ["cgal"]),
+    ("App::PropertyBool", "Junctions", "Mesh",
+     "Keep the curves where inputs meet (material junctions) as mesh edges", True),
+    ("App::PropertyMap", "InputMaterialNames", "Inputs",
+     "Volume group name per input without a FEM material: key = input Name, value = a "
+     "material name (group '<name>_Volumes')", None),
+    ("App::PropertyIntegerList", "FeatureEdges", "Output",
+     "Sharp and junction edges of the last mesh, as pairs of FemMesh node ids (drawn by the "
+     "view)", None),
     ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
     ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
 )
 READ_ONLY = ("Status", "Report", "InputKinds")
+HIDDEN = ("FeatureEdges",)
 
 
 class OracleMeshProxy:
@@ -88,6 +100,8 @@ class OracleMeshProxy:
                 setattr(obj, name, default)
             if name in READ_ONLY:
                 obj.setEditorMode(name, 1)
+            if name in HIDDEN:
+                obj.setEditorMode(name, 2)
 
     def onDocumentRestored(self, obj):
         self.add_properties(obj)
@@ -111,7 +125,7 @@ class OracleMeshProxy:
                 obj.Label, error_text(e))
             obj.Status = message
             FreeCAD.Console.PrintError(message + "\n")
-            if FreeCAD.GuiUp:
+            if FreeCAD.GuiUp and not is_cancel(e):  # the user asked for it: no error box
                 show_error(message)
             raise MeshingFailed(message) from None
 
@@ -122,6 +136,7 @@ class OracleMeshProxy:
                        for o, role, mid in described],
             "groups": {g: ids for g, ids in groups},
         }
+        obj.FeatureEdges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
         obj.FemMesh = femmesh
         obj.Report = json.dumps(report, indent=1, sort_keys=True)
         obj.Status = "%d nodes, %d %s; groups: %s" % (
@@ -141,14 +156,17 @@ class OracleMeshProxy:
     loads = __setstate__
 
 
+def is_cancel(error):
+    try:
+        return isinstance(error, import_core().Cancelled)
+    except ImportError:
+        return False
+
+
 def error_text(error):
     """User text of an exception: core errors carry their own message naming input and fix."""
-    try:
-        core = import_core()
-        if isinstance(error, core.Cancelled):
-            return "meshing was cancelled"
-    except ImportError:
-        pass
+    if is_cancel(error):
+        return "meshing was cancelled"
     return str(error) or error.__class__.__name__
 
 

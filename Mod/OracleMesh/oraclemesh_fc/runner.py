@@ -4,7 +4,7 @@ The core always runs in a child process (oraclemesh.run_isolated), so a crash of
 code becomes an error message and FreeCAD keeps running. In the GUI a worker thread waits on
 that process so the main window keeps painting; the main thread pumps Qt events and owns
 every widget, the worker only writes the latest (phase, fraction) into a shared dict. Cancel
-makes the progress callback return False, which ends the child process at once.
+sets an event that ends the child process at once, also in phases that report no progress.
 """
 import threading
 import time
@@ -54,15 +54,16 @@ def _run_with_dialog(job, label):
     import FreeCADGui
 
     core = import_core()
-    state = {"phase": "start", "fraction": 0.0, "cancel": False, "result": None, "error": None}
+    state = {"phase": "start", "fraction": 0.0, "result": None, "error": None}
+    cancel = threading.Event()
 
     def progress(phase, fraction):  # worker thread: no Qt calls here
         state["phase"], state["fraction"] = phase, fraction
-        return not state["cancel"]
+        return not cancel.is_set()
 
     def work():
         try:
-            state["result"] = core.run_isolated(job, progress=progress)
+            state["result"] = core.run_isolated(job, progress=progress, cancel=cancel)
         except BaseException as e:  # handed to the main thread, re-raised there
             state["error"] = e
 
@@ -78,7 +79,7 @@ def _run_with_dialog(job, label):
         while worker.is_alive():
             worker.join(0.05)
             if dialog.wasCanceled():
-                state["cancel"] = True
+                cancel.set()
             dialog.setLabelText("%s: %s (%.0f s)" % (label, state["phase"], time.time() - started))
             dialog.setValue(int(1000 * min(max(state["fraction"], 0.0), 1.0)))
             QtGui.QApplication.processEvents()

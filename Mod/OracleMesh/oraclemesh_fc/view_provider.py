@@ -1,17 +1,68 @@
-"""View provider of the OracleMesh object (GUI only): icon; display is FreeCAD's FEM mesh."""
+"""View provider of the OracleMesh object (GUI only): icon, the mesh coloured by material with
+its feature edges (display.py), and the task panel on double click / Edit (task_panel.py)."""
+import FreeCAD
+import FreeCADGui
+
+from . import display
 
 
 class ViewProviderOracleMesh:
 
     def __init__(self, vobj):
         vobj.Proxy = self
+        # Faces only: the drawn feature edges stand out instead of every triangle edge.
+        vobj.DisplayMode = "Faces"
 
     def attach(self, vobj):
         self.Object = vobj.Object
+        self.ViewObject = vobj
+        self.edge_node = display.FeatureEdgeNode()
+        self.edge_node.attach_to(vobj.RootNode)
+
+    def updateData(self, obj, prop):
+        if prop == "FemMesh" and hasattr(self, "edge_node"):
+            # FreeCAD's own FEM view rebuilds (and resets the colours) after this call:
+            # colour once control is back in the event loop.
+            from PySide import QtCore
+            QtCore.QTimer.singleShot(0, lambda: self.show(obj))
+
+    def show(self, obj):
+        try:
+            self.shown = display.show(obj, self.edge_node)
+        except Exception as e:  # a deleted object or view: nothing to colour
+            FreeCAD.Console.PrintLog("OracleMesh: colouring skipped: %s\n" % e)
 
     def getIcon(self):
         from . import icon_path
-        return icon_path()
+        return icon_path("OracleMesh_Mesh.svg")
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None  # transform etc.: FreeCAD's default
+        from .task_panel import TaskPanel
+        FreeCADGui.Control.showDialog(TaskPanel(vobj.Object))
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj):
+        if FreeCADGui.Control.activeDialog():
+            FreeCAD.Console.PrintWarning(
+                "OracleMesh: close the open task dialog first, then edit '%s'\n"
+                % vobj.Object.Label)
+            return True
+        FreeCADGui.getDocument(vobj.Object.Document).setEdit(vobj.Object.Name, 0)
+        return True
+
+    def setupContextMenu(self, vobj, menu):
+        from PySide import QtGui
+        action = QtGui.QAction("Edit OracleMesh mesh...", menu)
+        action.triggered.connect(lambda: self.doubleClicked(vobj))
+        menu.addAction(action)
 
     def __getstate__(self):
         return None

@@ -5,7 +5,13 @@ OpenCASCADE) ends this process, not FreeCAD. Speaks to the parent through:
   stdout  one line per progress report: "progress <fraction> <phase>"
   RESULT  an .npz with the result arrays and the report (on success, exit 0)
   RESULT.error.json  {"type": "InputError", "message": ...} (on an oraclemesh.Error, exit 2)
+
+Test hook: ORACLEMESH_WORKER_CRASH=<phase> makes this process die of a real segmentation
+fault when the core first reports that phase, so callers (FreeCAD tests) can check that a
+crash of the native code becomes an error message in the parent.
 """
+import ctypes
+import os
 import json
 import sys
 
@@ -14,8 +20,27 @@ import numpy as np
 import oraclemesh
 
 
+def die_with_parent():
+    """Linux: end this process when the caller (FreeCAD) ends, so a killed or crashed caller
+    leaves no meshing process behind."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        parent = os.getppid()
+        libc.prctl(1, 9)  # PR_SET_PDEATHSIG, SIGKILL
+        if os.getppid() != parent:  # the parent ended before prctl took effect
+            os._exit(3)
+    except (OSError, AttributeError):
+        pass  # not Linux: the caller's cancel still kills this process
+
+
 def main(job_path, result_path):
+    die_with_parent()
+    crash_phase = os.environ.get("ORACLEMESH_WORKER_CRASH")
+
     def progress(phase, fraction):
+        if phase == crash_phase:
+            sys.stdout.flush()
+            ctypes.string_at(0)  # reads address 0: SIGSEGV, as a bug in CGAL would
         sys.stdout.write("progress %.6f %s\n" % (fraction, phase))
         sys.stdout.flush()
 

@@ -1,0 +1,110 @@
+"""OracleMesh defaults (Edit > Preferences > OracleMesh): size preset, engine, element order,
+sharp-edge angle. New mesh objects made by the command start from them; makeMesh (the macro
+API) does not read them, so a macro gives the same mesh on every machine.
+"""
+import FreeCAD
+
+PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/OracleMesh"
+
+# Size presets: cell size = model bounding-box diagonal / divisor ("automatic" leaves every
+# size at 0, so the core derives them: diagonal / 15).
+PRESETS = (("automatic", None), ("coarse", 8.0), ("moderate", 15.0), ("fine", 30.0))
+ENGINES = (("cgal", "CGAL Mesh_3", True),
+           ("thesis", "Rule Set T (thesis) - not in this version", False))
+
+
+def params():
+    return FreeCAD.ParamGet(PARAM_PATH)
+
+
+def defaults():
+    p = params()
+    return {
+        "Preset": p.GetString("Preset", "automatic"),
+        "Engine": p.GetString("Engine", "cgal"),
+        "ElementOrder": p.GetInt("ElementOrder", 2),
+        "SharpAngle": p.GetFloat("SharpAngle", 30.0),
+    }
+
+
+def save(values):
+    p = params()
+    p.SetString("Preset", values["Preset"])
+    p.SetString("Engine", values["Engine"])
+    p.SetInt("ElementOrder", int(values["ElementOrder"]))
+    p.SetFloat("SharpAngle", float(values["SharpAngle"]))
+
+
+def preset_cell_size(preset, inputs):
+    """Cell size of a preset for the given input objects (0 = automatic)."""
+    divisor = dict(PRESETS).get(preset)
+    if not divisor:
+        return 0.0
+    box = None
+    for obj in inputs:
+        shape = getattr(obj, "Shape", None)
+        if shape is None or shape.isNull():
+            continue
+        if box is None:
+            box = FreeCAD.BoundBox(shape.BoundBox)
+        else:
+            box.add(shape.BoundBox)
+    if box is None or box.DiagonalLength <= 0:
+        return 0.0
+    return round(box.DiagonalLength / divisor, 3)
+
+
+def apply_defaults(obj):
+    """Set a new mesh object's options from the preferences."""
+    d = defaults()
+    if d["Engine"] in [e for e, _, works in ENGINES if works]:
+        obj.Engine = d["Engine"]
+    obj.ElementOrder = min(max(int(d["ElementOrder"]), 1), 2)
+    obj.SharpAngle = float(d["SharpAngle"])
+    obj.CellSize = preset_cell_size(d["Preset"], obj.Inputs)
+
+
+class PreferencePage:
+    """Edit > Preferences > OracleMesh (FreeCADGui.addPreferencePage takes this class)."""
+
+    def __init__(self, parent=None):
+        from PySide import QtGui
+        self.form = QtGui.QWidget(parent)
+        self.form.setWindowTitle("OracleMesh")
+        layout = QtGui.QFormLayout(self.form)
+        self.preset = QtGui.QComboBox()
+        for name, divisor in PRESETS:
+            self.preset.addItem(name if divisor is None else
+                                "%s (cell size = model diagonal / %g)" % (name, divisor), name)
+        layout.addRow("Default sizes", self.preset)
+        self.engine = QtGui.QComboBox()
+        add_engines(self.engine)
+        layout.addRow("Engine", self.engine)
+        self.order = QtGui.QComboBox()
+        self.order.addItem("1 - linear (C3D4)", 1)
+        self.order.addItem("2 - quadratic (C3D10)", 2)
+        layout.addRow("Element order", self.order)
+        self.sharp = QtGui.QDoubleSpinBox()
+        self.sharp.setRange(0.0, 180.0)
+        self.sharp.setSuffix(" deg")
+        layout.addRow("Sharp-edge angle (0 = off)", self.sharp)
+
+    def loadSettings(self):
+        d = defaults()
+        self.preset.setCurrentIndex(max(self.preset.findData(d["Preset"]), 0))
+        self.engine.setCurrentIndex(max(self.engine.findData(d["Engine"]), 0))
+        self.order.setCurrentIndex(max(self.order.findData(d["ElementOrder"]), 0))
+        self.sharp.setValue(d["SharpAngle"])
+
+    def saveSettings(self):
+        save({"Preset": self.preset.currentData(), "Engine": self.engine.currentData(),
+              "ElementOrder": self.order.currentData(), "SharpAngle": self.sharp.value()})
+
+
+def add_engines(combo):
+    """Fill an engine combo box; engines not in this version are listed but disabled."""
+    for name, text, works in ENGINES:
+        combo.addItem(text, name)
+        if not works:
+            item = combo.model().item(combo.count() - 1)
+            item.setEnabled(False)

@@ -1,0 +1,53 @@
+"""Workbench parts behind the GUI, headless: the quality measure (against the geometry and
+the core's report), export files read back by meshio, old documents gaining this version's
+properties, group names from InputMaterialNames, size presets."""
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tet_geometry import tet10_volumes  # noqa: E402
+
+
+def test_workbench_parts(run_freecad):
+    r = run_freecad("workbench_parts.py", timeout=300)
+    # Regular tetrahedron: every dihedral angle is arccos(1/3).
+    assert abs(r["regular_tet_min_dihedral"] - math.degrees(math.acos(1 / 3))) < 1e-9
+    assert r["flat_tet_min_dihedral"] < 1.0
+    assert abs(r["preset_moderate"] - round(r["bbox_diagonal"] / 15, 3)) < 1e-9
+    assert r["preset_automatic"] == 0.0
+    # The wedge's 10 degree edge (the only one below 15 degrees); box and cylinder have none.
+    assert len(r["wedge_small_angles"]) == 1 and abs(r["wedge_small_angles"][0] - 10) < 1e-6
+    assert r["box_small_angles"] == [] and r["cylinder_small_angles"] == []
+
+    # Group of the rod named by InputMaterialNames, the block by its label.
+    assert set(r["groups"]) == {"Steel_Volumes", "Block_Volumes"}
+    assert sum(r["groups"].values()) == r["report_counts"]["tets"] == r["quality_count"]
+    assert r["report_features"]["junctions"] is True and r["report_engine"] == "cgal"
+    assert r["feature_edges"] == r["report_counts"]["feature_edges"] > 0
+    assert r["feature_edge_nodes_exist"]
+    # The workbench measures the same worst element as the core.
+    assert abs(r["quality_min"] - r["report_min_dihedral"]) < 1e-6
+    assert r["quality_groups"] == ["Block_Volumes", "Steel_Volumes"]
+
+    meshio = pytest.importorskip("meshio")
+    total = sum(r["report_volumes"].values())
+    for ext, path in r["exports"].items():
+        m = meshio.read(path)
+        tets = m.cells[0].data
+        assert m.cells[0].type == "tetra10" and len(tets) == r["quality_count"], ext
+        vol = tet10_volumes(m.points, tets)
+        assert (vol > 0).all(), "%s: exported tets are not positively oriented" % ext
+        assert abs(vol.sum() - total) < 1e-6 * total, ext
+    inp = open(r["exports"][".inp"]).read()
+    assert "*ELSET, ELSET=Steel_Volumes" in inp and "*ELSET, ELSET=Block_Volumes" in inp
+    vtu = meshio.read(r["exports"][".vtu"])
+    assert sorted(np.unique(vtu.cell_data["material"][0]).tolist()) == [1, 2]
+    assert "xyz" in r["bad_extension"] and ".vtu" in r["bad_extension"]
+
+    assert all(r["restored_properties"].values()), r["restored_properties"]
+    assert r["restored_engine"] == "cgal" and r["restored_junctions"] is True
+    assert r["restored_meshes"], r["restored_status"]
