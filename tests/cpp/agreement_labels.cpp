@@ -135,15 +135,7 @@ TEST_P(SharedModel, LabelsAgreeWithClassifier) {
   expectLabelsAgree(file, oracle, reference, 61);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cad, SharedModel,
-                         ::testing::Values("part.step", "screw.step", "Kurbelwelle.stp", "U_Joint_2.stp",
-                                           "presse_asm.step"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Cad, SharedModel, ::testing::ValuesIn(test::kSolidModels), test::modelTestName);
 
 TEST(AssemblyLabels, DemoAssemblyAgreesWithClassifier) {
   const test::DemoAssembly parts;

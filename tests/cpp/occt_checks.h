@@ -42,6 +42,15 @@ inline double distanceToShape(const Point3& p, const TopoDS_Shape& shape) {
 }
 
 // What FreeCAD's Shape.exportBrepToString() gives: the job's "brep" input.
+// The shapes as one compound, in the given order (how multi-solid files are built).
+inline TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
+  return compound;
+}
+
 inline std::string brepText(const TopoDS_Shape& shape) {
   std::ostringstream out;
   BRepTools::Write(shape, out);

@@ -2,6 +2,9 @@
 // OpenCASCADE's own answers, used as the reference for the oracle by the tests and by the
 // benchmark (no GoogleTest here): point classification composed by priority, line/face
 // intersections, plus the random points and the demo assembly they are asked about.
+#include <gtest/gtest.h>
+
+#include <cctype>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepIntCurveSurface_Inter.hxx>
@@ -223,6 +226,17 @@ inline CrossingComparison compareWithReference(const std::vector<BoundaryCrossin
     ++result.contradictionsLeftOut;
   }
   return result;
+}
+
+// The shared CAD models that hold solids (cube_filet.stp is an open shell), for the
+// parameterised agreement tests, and a test name made of a file name.
+inline const char* const kSolidModels[] = {"part.step", "screw.step", "Kurbelwelle.stp", "U_Joint_2.stp",
+                                           "presse_asm.step"};
+inline std::string modelTestName(const ::testing::TestParamInfo<const char*>& info) {
+  std::string name = info.param;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
 }
 
 }  // namespace oraclemesh::test

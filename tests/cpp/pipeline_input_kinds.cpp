@@ -29,6 +29,8 @@
 namespace oraclemesh {
 namespace {
 
+using test::compoundOf;
+
 using test::brepText;
 using test::volumeOf;
 
@@ -132,14 +134,6 @@ TEST(InputKinds, StlPinMeshesWithTheVolumeOfTheBrepPin) {
   EXPECT_NEAR(fromBrep, cylinder, 0.005 * cylinder);
   std::cout << "[figures] pin tet10 volume: from STL " << fromStl << ", from B-rep " << fromBrep << ", cylinder "
             << cylinder << " (STL vs B-rep " << 100 * (fromStl / fromBrep - 1) << " %)\n";
-}
-
-TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
-  BRep_Builder builder;
-  TopoDS_Compound compound;
-  builder.MakeCompound(compound);
-  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
-  return compound;
 }
 
 std::string jobError(const nlohmann::json& input) {

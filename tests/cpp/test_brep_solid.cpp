@@ -43,6 +43,8 @@
 namespace oraclemesh {
 namespace {
 
+using test::compoundOf;
+
 using test::cadDir;
 using test::distanceToShape;
 using test::randomPointsAround;
@@ -261,14 +263,6 @@ TEST(BrepSolid, SeveralSolidsFormOneInput) {
   EXPECT_TRUE(solid.inside({5.5, 0.5, 0.5}));
   EXPECT_FALSE(solid.inside({3, 0.5, 0.5}));
   EXPECT_EQ(solid.faceCount(), 12);
-}
-
-TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
-  BRep_Builder builder;
-  TopoDS_Compound compound;
-  builder.MakeCompound(compound);
-  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
-  return compound;
 }
 
 // Every loaded solid answers inside() like OpenCASCADE's classifier on the original solid,

@@ -228,15 +228,7 @@ TEST_P(CrossingsOnSharedModel, AgreeWithOcct) {
   for (const auto& solid : loaded.solids) expectCrossingsAgreeWithOcct(*solid, segments, 31);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cad, CrossingsOnSharedModel,
-                         ::testing::Values("part.step", "screw.step", "Kurbelwelle.stp", "U_Joint_2.stp",
-                                           "presse_asm.step"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Cad, CrossingsOnSharedModel, ::testing::ValuesIn(test::kSolidModels), test::modelTestName);
 
 TEST(Crossings, ConcurrentQueriesGiveTheSequentialAnswers) {
   // Mesh_3 queries the oracle from several threads: the intersectors are leased per query.

@@ -439,7 +439,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     std::ostringstream message;
     message << snap.kept_off_surface << " boundary node(s) stay up to " << snap.max_distance_kept
             << " from the CAD faces (worst near (" << snap.worst_kept[0] << ", " << snap.worst_kept[1] << ", "
-            << snap.worst_kept[2] << ")): putting them on the faces would invert flat elements; FEM constraints "
+            << snap.worst_kept[2] << ")): putting them on the faces would flatten or invert elements; FEM constraints "
                "on those faces may miss them (a finer edge_size near small input angles helps)";
     warnings.push_back(message.str());
   }
