@@ -33,5 +33,9 @@ def test_fem_handoff_demo_assembly(run_freecad):
     assert reopened["volumes"] == mesh["volumes"]
     assert reopened["groups"] == sorted(r["groups_expected"])
     assert not reopened["touched"]
+    # A changed input asks for a recompute without remeshing; the recompute meshes the new pin.
+    changed = r["after_input_change"]
+    assert changed["input_touched"] and changed["document_needs_recompute"] and changed["volumes_unchanged"]
+    assert abs(changed["max_pin_radius_meshed"] - 6.0) < 1e-6, changed
     # Without FEM materials the groups carry the input labels.
     assert r["label_groups"] == ["Pin_Volumes", "Plate_Volumes"]

@@ -105,6 +105,24 @@ def check(params):
         "touched": "Touched" in m2.State,
     }
 
+    # An input changes: FreeCAD marks the input touched and the document as needing a
+    # recompute (the mesh is its dependent); nothing is remeshed behind the user's back, and
+    # the next recompute meshes the new geometry.
+    volumes_before = fm2.VolumeCount
+    pin2 = doc2.getObject("Pin")
+    pin2.Radius = R + 1
+    out["after_input_change"] = {
+        "input_touched": "Touched" in pin2.State,
+        "document_needs_recompute": bool(doc2.mustExecute()),
+        "volumes_unchanged": m2.FemMesh.VolumeCount == volumes_before,
+    }
+    doc2.recompute()
+    pin_points, pin_tets, _, _ = h.mesh_arrays(m2.FemMesh)
+    centroids2 = pin_points[pin_tets[:, :4]].mean(axis=1)
+    out["after_input_change"]["max_pin_radius_meshed"] = float(
+        np.hypot(pin_points[pin_tets[:, :4]][..., 0] - 50, pin_points[pin_tets[:, :4]][..., 1] - 30)[
+            (centroids2[:, 2] < -1) | (centroids2[:, 2] > 11)].max())
+
     # Without FEM materials the groups are named after the input labels.
     doc3 = FreeCAD.newDocument("Labels")
     pin3, plate3, cut3 = build(doc3)
