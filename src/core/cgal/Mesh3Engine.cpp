@@ -29,15 +29,87 @@ namespace oraclemesh {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Domain = CGAL::Mesh_domain_with_polyline_features_3<CGAL::Labeled_mesh_domain_3<K>>;
+
+Point3 toPoint3(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
+K::Point_3 toCgal(const Point3& p) { return K::Point_3(p[0], p[1], p[2]); }
+
+// Labeled_mesh_domain_3 finds where a dual Voronoi edge crosses the boundary by bisecting
+// with the labeling function. Close to a CAD face every bisection step is an exact
+// OpenCASCADE classification (milliseconds on B-spline faces), and these steps were most of
+// the meshing time. The oracle's composite crossings answer the same question from exact
+// line/face intersections; bisection stays as the fallback where the crossings do not
+// explain the end labels (a grazing hit the intersector missed).
+class OracleLabeledDomain : public CGAL::Labeled_mesh_domain_3<K> {
+ public:
+  using Base = CGAL::Labeled_mesh_domain_3<K>;
+
+  OracleLabeledDomain(const HierarchicalOracle& oracle, const std::function<int(const Point_3&)>& labeling,
+                      const CGAL::Bbox_3& box, FT relativeError, CGAL::Random* random)
+      : Base(labeling, box, relativeError, CGAL::Null_subdomain_index(), random), oracle_(&oracle), box_(box) {}
+
+  struct Construct_intersection {
+    const OracleLabeledDomain& domain;
+
+    Intersection operator()(const Segment_3& s) const { return between(s.source(), s.target()); }
+    Intersection operator()(const Ray_3& r) const { return clipped(r); }
+    Intersection operator()(const Line_3& l) const { return clipped(l); }
+
+   private:
+    template <typename Query>
+    Intersection clipped(const Query& query) const {
+      const auto part = CGAL::intersection(query, Iso_cuboid_3(domain.box_));
+      if (part)
+        if (const Segment_3* s = boost::get<Segment_3>(&*part)) return between(s->source(), s->target());
+      return Intersection();
+    }
+
+    // The first boundary point from a towards b, with the pair of labels meeting there.
+    Intersection between(const Point_3& a, const Point_3& b) const {
+      const int labelA = domain.oracle_->label(toPoint3(a));
+      const int labelB = domain.oracle_->label(toPoint3(b));
+      if (labelA == labelB) return Intersection();
+      // Dual edges of hull cells end ~1e16 away: a crossing parameter on such a segment is
+      // only good to ~1e16 x 1e-16, so the far end is pulled in along the same line first.
+      Point3 from = toPoint3(a), to = toPoint3(b);
+      const HierarchicalOracle& oracle = *domain.oracle_;
+      const double reach = 2 * oracle.diagonal();
+      const bool fromFar = !oracle.bbox().contains(from, reach), toFar = !oracle.bbox().contains(to, reach);
+      if (fromFar && toFar) return domain.Base::construct_intersection_object()(Segment_3(a, b));
+      auto pullIn = [&](const Point3& near, const Point3& far) {
+        const Point3 d = far - near;
+        return near + (3 * reach / norm(d)) * d;  // still outside the box, so still outside the domain
+      };
+      if (fromFar) from = pullIn(to, from);
+      if (toFar) to = pullIn(from, to);
+      std::vector<CompositeCrossing> crossings;
+      try {
+        crossings = oracle.crossings(from, to);
+      } catch (const Error&) {
+        crossings.clear();  // an intersector failure on a degenerate piece: bisect instead
+      }
+      if (!crossings.empty() && crossings.front().labelBefore == labelA && crossings.back().labelAfter == labelB) {
+        const CompositeCrossing& first = crossings.front();
+        return Intersection(toCgal(first.point),
+                            domain.index_from_surface_patch_index(domain.make_surface_index(labelA, first.labelAfter)),
+                            2);
+      }
+      return domain.Base::construct_intersection_object()(Segment_3(a, b));
+    }
+  };
+
+  Construct_intersection construct_intersection_object() const { return Construct_intersection{*this}; }
+
+ private:
+  const HierarchicalOracle* oracle_;
+  CGAL::Bbox_3 box_;
+};
+
+using Domain = CGAL::Mesh_domain_with_polyline_features_3<OracleLabeledDomain>;
 using Tr = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
 using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, Domain::Curve_index>;
 using Criteria = CGAL::Mesh_criteria_3<Tr>;
 using Point_3 = K::Point_3;
 using FT = K::FT;
-
-Point3 toPoint3(const Point_3& p) { return {p.x(), p.y(), p.z()}; }
-Point_3 toCgal(const Point3& p) { return Point_3(p[0], p[1], p[2]); }
 
 class PhaseTimer {
  public:
@@ -220,7 +292,7 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   // Bisection stops at relative_error_bound x diagonal; the pipeline then projects boundary
   // vertices exactly onto the CAD, so this only needs to be small against the mesh size.
   CGAL::Random random(options.seed);
-  Domain domain(labeling, cgalBox, FT(1e-6), CGAL::Null_subdomain_index(), &random);
+  Domain domain(oracle, labeling, cgalBox, FT(1e-6), &random);
 
   std::vector<int> curveIdOfIndex(1, -1);  // Mesh_3 curve indices start at 1
   if (!features.empty()) {
