@@ -1,6 +1,7 @@
 #include "domain/HierarchicalOracle.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "Error.h"
 
@@ -142,11 +143,25 @@ std::vector<CompositeCrossing> HierarchicalOracle::crossings(const Point3& a, co
 }
 
 BoundaryProjection HierarchicalOracle::projectOnBoundary(const Point3& p, int* entry) const {
+  // Exact projections are costly (OpenCASCADE extrema): visit the entries nearest by
+  // bounding box first and stop once a box is farther than the best boundary point found.
+  auto boxDistance = [&](const Bbox& box) {
+    double squared = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double outside = std::max({box.min[i] - p[i], 0.0, p[i] - box.max[i]});
+      squared += outside * outside;
+    }
+    return std::sqrt(squared);
+  };
+  std::vector<std::pair<double, size_t>> order;
+  for (size_t i = 0; i < entries_.size(); ++i) order.push_back({boxDistance(entries_[i].source->bbox()), i});
+  std::sort(order.begin(), order.end());
   BoundaryProjection best;
   int bestEntry = -1;
-  for (size_t i = 0; i < entries_.size(); ++i) {
+  for (const auto& [lowerBound, i] : order) {
+    if (lowerBound > best.distance) break;
     const BoundaryProjection q = entries_[i].source->project(p);
-    if (q.distance < best.distance) {
+    if (q.distance < best.distance || (q.distance == best.distance && static_cast<int>(i) < bestEntry)) {
       best = q;
       bestEntry = static_cast<int>(i);
     }
