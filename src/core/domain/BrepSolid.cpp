@@ -18,6 +18,7 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepGProp.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
@@ -33,6 +34,7 @@
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <gp_Lin.hxx>
+#include <gp_Pnt2d.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -48,6 +50,7 @@
 #include <TopoDS_Vertex.hxx>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fstream>
 #include <map>
@@ -357,6 +360,22 @@ struct BrepSolid::Impl {
   // in a planar face). The candidate test widens each face's band by that much.
   std::vector<double> crossingBand;
   double crossingReach = 0;  // the widest crossingBand
+  // crossings(): what a Newton iteration on the exact surface needs from each proxy triangle
+  // (same order as proxyFaceOfTriangle). `regular`: it has surface parameters and the
+  // surface has a normal all over it that keeps one side (no pole, no fold). `tilt`: the
+  // largest angle (radians) between the triangle's normal and the surface normals sampled
+  // over it; a line steeper than 90 degrees minus that angle (and a margin) crosses the
+  // surface patch over the triangle at most once.
+  struct NewtonTriangle {
+    std::array<gp_Pnt, 3> node;
+    std::array<gp_Pnt2d, 3> uv;
+    double tilt = 0;
+    bool regular = false;
+    // No node on the boundary of the face's triangulation (face edges, seams, poles): the
+    // parametric triangle lies inside the face's domain, no classification needed.
+    bool interior = false;
+  };
+  std::vector<NewtonTriangle> newtonTriangle;
 
   // Exact crossings. An IntCurvesFace_Intersector keeps its results in itself, so like the
   // classifiers each query leases a set (one per face, built on first use) from a pool.
@@ -364,6 +383,9 @@ struct BrepSolid::Impl {
   std::vector<Handle(Geom_Surface)> faceSurface;  // located, for normals at the hits
   struct FaceIntersectors {
     std::vector<std::unique_ptr<IntCurvesFace_Intersector>> byFace;
+    // The parametric domain test IntCurvesFace_Intersector applies to its own solutions
+    // (same class, same tolerance), for the Newton solutions.
+    std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> domainByFace;
   };
   mutable std::mutex intersectorMutex;
   mutable std::vector<std::unique_ptr<FaceIntersectors>> idleIntersectors;
@@ -376,10 +398,29 @@ struct BrepSolid::Impl {
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
   // A face the segment may cross, and the part [t0, t1] of the segment where it may.
+  // A proxy triangle near the segment and where the segment's line meets its plane
+  // (segment parameter, barycentric weights).
+  struct NewtonSeed {
+    size_t triangle;
+    double t;
+    std::array<double, 3> weight;
+    bool crossed;  // the segment crosses the triangle itself
+  };
   struct FaceSpan {
     int face;
     double t0, t1;
+    // False when some triangle near the segment is not a clean Newton start (too oblique, no
+    // parameters, a pole or fold): then only OpenCASCADE's intersector on [t0, t1] gives the
+    // answer for this face.
+    bool newtonOnly = true;
+    std::vector<NewtonSeed> seeds;
   };
+  // The crossing of the segment with the surface over a seed's triangle, by Newton
+  // iteration on S(u,v) = a + t (b - a). Unsure: no convergence, near-tangent, near an end
+  // of the segment, or a solution off the triangle. None: the crossing is beyond an end.
+  enum class NewtonResult { Crossing, None, Unsure };
+  NewtonResult newtonCrossing(const Point3& a, const Point3& d, double length, int face, const NewtonSeed& seed,
+                              double& t, gp_Pnt2d& uv) const;
   std::vector<FaceSpan> facesNearSegment(const Point3& a, const Point3& b) const;
   std::vector<BoundaryCrossing> exactCrossings(const Point3& a, const Point3& b,
                                                const std::vector<FaceSpan>& candidates) const;
@@ -458,6 +499,18 @@ void BrepSolid::Impl::buildProxy() {
     // midpoints against the flat triangle there. BRepMesh's own figure is an estimate.
     BRepAdaptor_Surface surface(faces[f], Standard_True);
     const Handle(Geom_Surface) exactSurface = BRep_Tool::Surface(faces[f]);
+    // Nodes on an edge of the triangulation that is not shared by exactly two triangles.
+    std::vector<char> boundaryNode(tri->NbNodes() + 1, 0);
+    {
+      std::map<std::pair<int, int>, int> use;
+      for (int t = 1; t <= tri->NbTriangles(); ++t) {
+        int a, b, c;
+        tri->Triangle(t).Get(a, b, c);
+        for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) ++use[{std::min(u, v), std::max(u, v)}];
+      }
+      for (const auto& [e, n] : use)
+        if (n != 2) boundaryNode[e.first] = boundaryNode[e.second] = 1;
+    }
     for (int t = 1; t <= tri->NbTriangles(); ++t) {
       int a, b, c;
       tri->Triangle(t).Get(a, b, c);
@@ -469,10 +522,41 @@ void BrepSolid::Impl::buildProxy() {
       // triangles, and a soup never fails on non-manifold joins between faces.
       proxyMesh.add_face(local[a], local[b], local[c]);
       proxyFaceOfTriangle.push_back(static_cast<int>(f));
+      NewtonTriangle& seedTriangle = newtonTriangle.emplace_back();
+      seedTriangle.node = {nodes[a], nodes[b], nodes[c]};
       for (auto [u, v] : {std::pair{ids[a], ids[b]}, std::pair{ids[b], ids[c]}, std::pair{ids[c], ids[a]}})
         ++edgeUse[{std::min(u, v), std::max(u, v)}];
       if (tri->HasUVNodes()) {
         const gp_Pnt2d ua = tri->UVNode(a), ub = tri->UVNode(b), uc = tri->UVNode(c);
+        seedTriangle.uv = {ua, ub, uc};
+        seedTriangle.regular = true;
+        seedTriangle.interior = !boundaryNode[a] && !boundaryNode[b] && !boundaryNode[c];
+        const gp_Dir triangleNormal(ab.Crossed(ac));
+        // Normals at the corners, the centroid and the edge midpoints (the tilt's samples).
+        const std::array<std::array<double, 3>, 7> tiltWeights{
+            {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1 / 3., 1 / 3., 1 / 3.}, {.5, .5, 0}, {0, .5, .5}, {.5, 0, .5}}};
+        int sense = 0;
+        for (const auto& w : tiltWeights) {
+          gp_Pnt p;
+          gp_Vec du, dv;
+          surface.D1(w[0] * ua.X() + w[1] * ub.X() + w[2] * uc.X(), w[0] * ua.Y() + w[1] * ub.Y() + w[2] * uc.Y(), p,
+                     du, dv);
+          const gp_Vec n = du.Crossed(dv);
+          if (n.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude() || n.Magnitude() == 0) {
+            seedTriangle.regular = false;  // a singular point: leave it to OpenCASCADE
+            break;
+          }
+          // The triangle's winding may disagree with the parametrisation's, so the first
+          // sample sets the sense; a normal turning over within the triangle (a fold) rules
+          // the triangle out.
+          const double cosine = triangleNormal.Dot(gp_Dir(n));
+          if (sense == 0) sense = cosine < 0 ? -1 : 1;
+          if (cosine * sense <= 0) {
+            seedTriangle.regular = false;
+            break;
+          }
+          seedTriangle.tilt = std::max(seedTriangle.tilt, std::acos(std::min(1.0, cosine * sense)));
+        }
         const std::array<std::array<double, 3>, 4> weights{{{1 / 3., 1 / 3., 1 / 3.}, {.5, .5, 0}, {0, .5, .5}, {.5, 0, .5}}};
         for (const auto& w : weights) {
           const gp_Pnt onSurface = surface.Value(w[0] * ua.X() + w[1] * ub.X() + w[2] * uc.X(),
@@ -693,6 +777,57 @@ class SegmentBoxTest {
 
 }  // namespace
 
+BrepSolid::Impl::NewtonResult BrepSolid::Impl::newtonCrossing(const Point3& a, const Point3& d, double length,
+                                                              int face, const NewtonSeed& seed, double& t,
+                                                              gp_Pnt2d& uv) const {
+  const NewtonTriangle& triangle = newtonTriangle[seed.triangle];
+  const std::array<double, 3>& w = seed.weight;
+  double u = w[0] * triangle.uv[0].X() + w[1] * triangle.uv[1].X() + w[2] * triangle.uv[2].X();
+  double v = w[0] * triangle.uv[0].Y() + w[1] * triangle.uv[1].Y() + w[2] * triangle.uv[2].Y();
+  t = seed.t;
+  const gp_XYZ dir(d[0], d[1], d[2]);
+  // Far below the 1e-7 x diagonal agreement with OpenCASCADE, above double round-off.
+  const double tolerance = 1e-12 * diagonal;
+  bool converged = false;
+  for (int iteration = 0; iteration < 8 && !converged; ++iteration) {
+    gp_Pnt p;
+    gp_Vec su, sv;
+    faceSurface[face]->D1(u, v, p, su, sv);
+    // F = S(u,v) - (a + t d); J = [Su Sv -d]; solve J delta = -F by Cramer's rule.
+    const gp_XYZ residual(p.X() - (a[0] + t * d[0]), p.Y() - (a[1] + t * d[1]), p.Z() - (a[2] + t * d[2]));
+    if (residual.Modulus() <= tolerance) {
+      converged = true;
+      break;
+    }
+    const gp_XYZ cu = su.XYZ(), cv = sv.XYZ(), cd = dir.Reversed();
+    const double det = cu.Dot(cv.Crossed(cd));
+    // Near-singular: a pole, a degenerate parametrisation or a grazing line.
+    if (!(std::abs(det) > 0.05 * cu.Modulus() * cv.Modulus() * length)) return NewtonResult::Unsure;
+    const gp_XYZ rhs = residual.Reversed();
+    u += rhs.Dot(cv.Crossed(cd)) / det;
+    v += cu.Dot(rhs.Crossed(cd)) / det;
+    t += cu.Dot(cv.Crossed(rhs)) / det;
+    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(t)) return NewtonResult::Unsure;
+  }
+  if (!converged) return NewtonResult::Unsure;
+  // Near an end of the segment OpenCASCADE's own rounding decides whether the crossing
+  // counts: leave that to it, as any crossing within the face's band of an end.
+  const double endMargin = crossingBand[face] / length;
+  if (std::abs(t) <= endMargin || std::abs(1 - t) <= endMargin) return NewtonResult::Unsure;
+  // The solution must lie on the seed's own parametric triangle: elsewhere it may be the
+  // crossing over a neighbour triangle, and this triangle's own crossing not found.
+  const gp_XY p0 = triangle.uv[0].XY(), e1 = triangle.uv[1].XY() - p0, e2 = triangle.uv[2].XY() - p0;
+  const gp_XY q = gp_XY(u, v) - p0;
+  const double area = e1.Crossed(e2);
+  if (area == 0) return NewtonResult::Unsure;
+  const double w1 = q.Crossed(e2) / area, w2 = e1.Crossed(q) / area;
+  const double slack = -1e-9;
+  if (!(w1 >= slack && w2 >= slack && 1 - w1 - w2 >= slack)) return NewtonResult::Unsure;
+  if (t < 0 || t > 1) return NewtonResult::None;
+  uv.SetCoord(u, v);
+  return NewtonResult::Crossing;
+}
+
 std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
   std::vector<FaceSpan> found;
   if (!proxyTree) {
@@ -707,6 +842,7 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
     const Impl& m;
     SegmentBoxTest boxTest;
     Kernel::Segment_3 segment;
+    Point3 origin, direction;
     std::vector<int> slot;  // per face: index into `found`, -1 when not found yet
     std::vector<FaceSpan>& found;
 
@@ -717,10 +853,12 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
       const double band = m.crossingBand[f];
       double t0, t1;
       if (!boxTest.meets(m.proxyTriangleBox[id], band, t0, t1)) return;
-      if (slot[f] >= 0 && found[slot[f]].t0 <= t0 && t1 <= found[slot[f]].t1) return;  // adds nothing
+      // A face left to OpenCASCADE only needs its span: a triangle inside it adds nothing.
+      if (slot[f] >= 0 && !found[slot[f]].newtonOnly && found[slot[f]].t0 <= t0 && t1 <= found[slot[f]].t1) return;
       // Segment/triangle distance: zero when they meet, else reached at an end of the
       // segment or on an edge of the triangle.
       const Kernel::Triangle_3 t = m.proxyTriangle(primitive.id());
+      NewtonSeed seed{id, 0, {0, 0, 0}, true};
       if (!CGAL::do_intersect(segment, t)) {
         const double limit = band * band;
         bool near = CGAL::to_double(CGAL::squared_distance(segment.source(), t)) <= limit ||
@@ -728,7 +866,11 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
         for (int e = 0; e < 3 && !near; ++e)
           near = CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))) <= limit;
         if (!near) return;
+        seed.crossed = false;
       }
+      // A triangle the segment only passes beside may still have a crossing over it (the
+      // surface bulges towards the segment): that face is left to OpenCASCADE.
+      const bool seeded = seed.crossed && seedOf(m.newtonTriangle[id], seed);
       if (slot[f] < 0) {
         slot[f] = static_cast<int>(found.size());
         found.push_back({f, t0, t1});
@@ -736,6 +878,33 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
         found[slot[f]].t0 = std::min(found[slot[f]].t0, t0);
         found[slot[f]].t1 = std::max(found[slot[f]].t1, t1);
       }
+      FaceSpan& span = found[slot[f]];
+      if (!seeded) {
+        span.newtonOnly = false;
+        span.seeds.clear();
+      } else if (span.newtonOnly) {
+        span.seeds.push_back(seed);
+      }
+    }
+    // Where the segment crosses a regular proxy triangle steeply enough that the line
+    // cannot turn tangent to the surface patch over it (the tilt bound, plus 10 degrees).
+    bool seedOf(const NewtonTriangle& triangle, NewtonSeed& seed) const {
+      if (!triangle.regular) return false;
+      const gp_XYZ p0 = triangle.node[0].XYZ(), e1 = triangle.node[1].XYZ() - p0, e2 = triangle.node[2].XYZ() - p0;
+      const gp_XYZ dir(direction[0], direction[1], direction[2]);
+      const gp_XYZ normal = e1.Crossed(e2);
+      const double steepness = std::abs(dir.Dot(normal)) / (dir.Modulus() * normal.Modulus());
+      if (!(std::acos(std::min(1.0, steepness)) + triangle.tilt < (80.0 / 180.0) * M_PI)) return false;
+      // Moller-Trumbore: a + t d = p0 + w1 e1 + w2 e2.
+      const gp_XYZ pvec = dir.Crossed(e2);
+      const double det = e1.Dot(pvec);
+      const gp_XYZ s = gp_XYZ(origin[0], origin[1], origin[2]) - p0;
+      const double w1 = s.Dot(pvec) / det;
+      const gp_XYZ qvec = s.Crossed(e1);
+      const double w2 = dir.Dot(qvec) / det;
+      seed.t = e2.Dot(qvec) / det;
+      seed.weight = {1 - w1 - w2, w1, w2};
+      return std::isfinite(seed.t) && std::isfinite(seed.weight[0]);
     }
     bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
       return boxTest.meets(node.bbox(), m.crossingReach);
@@ -743,10 +912,10 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
   };
   Traversal traversal{*this, SegmentBoxTest(a, b - a),
                       Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
-                      std::vector<int>(faces.size(), -1), found};
+                      a, b - a, std::vector<int>(faces.size(), -1), found};
   proxyTree->traversal(0, traversal);
   for (int f : facesWithoutTriangles)
-    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0});
+    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0, false, {}});
   return found;
 }
 
@@ -769,14 +938,71 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
   if (!lease) {
     lease = std::make_unique<FaceIntersectors>();
     lease->byFace.resize(faces.size());
+    lease->domainByFace.resize(faces.size());
   }
   struct Hit {
     BoundaryCrossing crossing;
     int solid;
   };
   std::vector<Hit> hits;
+  // A crossing of face f at w (along the line) and (u, v); its sense from the face's normal.
+  auto addHit = [&](int f, double w, double u, double v) {
+    gp_Pnt onSurface;
+    gp_Vec du, dv;
+    faceSurface[f]->D1(u, v, onSurface, du, dv);
+    gp_Vec normal = du.Crossed(dv);
+    if (faces[f].Orientation() == TopAbs_REVERSED) normal.Reverse();
+    const double side = normal.X() * d[0] + normal.Y() * d[1] + normal.Z() * d[2];
+    Hit hit;
+    hit.crossing.t = w / length;
+    hit.crossing.point = a + hit.crossing.t * d;
+    hit.crossing.patch = f;
+    hit.solid = solidOfFace[f];
+    if (normal.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude()) {
+      // A pole or an apex: no normal, so the side is read off the classifier just beyond.
+      const double step = std::min(1.0 - hit.crossing.t, 1e-7 * diagonal / length);
+      hit.crossing.entering = step > 0 && classifyExact(a + (hit.crossing.t + step) * d);
+    } else if (side == 0.0) {
+      return;
+    } else {
+      hit.crossing.entering = side < 0;
+    }
+    hits.push_back(hit);
+  };
+  std::vector<std::pair<double, gp_Pnt2d>> newtonHits;
   for (const FaceSpan& span : candidates) {
     const int f = span.face;
+    // Each crossing of the face lies on the surface over one of the triangles near the
+    // segment; when all of those are crossed cleanly, one Newton solve per triangle finds
+    // them all, and OpenCASCADE's intersector is not needed.
+    bool solved = span.newtonOnly && !span.seeds.empty();
+    newtonHits.clear();
+    for (size_t i = 0; solved && i < span.seeds.size(); ++i) {
+      double t;
+      gp_Pnt2d uv;
+      const NewtonResult found = newtonCrossing(a, d, length, f, span.seeds[i], t, uv);
+      solved = found != NewtonResult::Unsure;
+      if (found != NewtonResult::Crossing) continue;
+      // The face's domain decides as for OpenCASCADE's own solutions: outside, no crossing;
+      // on its boundary (within the tolerance) the crossing may belong to the neighbour face,
+      // which OpenCASCADE's intersector sorts out.
+      TopAbs_State state = TopAbs_IN;
+      if (!newtonTriangle[span.seeds[i].triangle].interior) {
+        auto& domain = lease->domainByFace[f];
+        if (!domain) domain = std::make_unique<BRepTopAdaptor_FClass2d>(faces[f], classifyTolerance);
+        state = domain->Perform(uv);
+      }
+      solved = state == TopAbs_IN;
+      // Two seeds on a shared triangle edge find the same crossing: keep it once.
+      if (solved && state == TopAbs_IN && std::none_of(newtonHits.begin(), newtonHits.end(), [&](const auto& hit) {
+            return std::abs(hit.first - t) * length <= 1e-9 * diagonal;
+          }))
+        newtonHits.emplace_back(t, uv);
+    }
+    if (solved) {
+      for (const auto& [t, uv] : newtonHits) addHit(f, t * length, uv.X(), uv.Y());
+      continue;
+    }
     auto& intersector = lease->byFace[f];
     if (!intersector) intersector = std::make_unique<IntCurvesFace_Intersector>(faces[f], classifyTolerance);
     intersector->Perform(line, span.t0 * length, span.t1 * length);
@@ -785,27 +1011,7 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
       if (intersector->Transition(i) == IntCurveSurface_Tangent) continue;
       const double w = intersector->WParameter(i);
       if (w < 0.0 || w > length) continue;
-      gp_Pnt onSurface;
-      gp_Vec du, dv;
-      faceSurface[f]->D1(intersector->UParameter(i), intersector->VParameter(i), onSurface, du, dv);
-      gp_Vec normal = du.Crossed(dv);
-      if (faces[f].Orientation() == TopAbs_REVERSED) normal.Reverse();
-      const double side = normal.X() * d[0] + normal.Y() * d[1] + normal.Z() * d[2];
-      Hit hit;
-      hit.crossing.t = w / length;
-      hit.crossing.point = a + hit.crossing.t * d;
-      hit.crossing.patch = f;
-      hit.solid = solidOfFace[f];
-      if (normal.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude()) {
-        // A pole or an apex: no normal, so the side is read off the classifier just beyond.
-        const double step = std::min(1.0 - hit.crossing.t, 1e-7 * diagonal / length);
-        hit.crossing.entering = step > 0 && classifyExact(a + (hit.crossing.t + step) * d);
-      } else if (side == 0.0) {
-        continue;
-      } else {
-        hit.crossing.entering = side < 0;
-      }
-      hits.push_back(hit);
+      addHit(f, w, intersector->UParameter(i), intersector->VParameter(i));
     }
   }
   {

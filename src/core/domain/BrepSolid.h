@@ -49,8 +49,9 @@ class BrepSolid : public Source {
   BoundaryProjection project(const Point3& p) const override;
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
   // Exact crossings: the faces whose proxy triangles come within their band of the segment
-  // are intersected with the segment's line by OpenCASCADE (IntCurvesFace_Intersector);
-  // every face when the proxy has none. patch = face index; `entering` from the face's
+  // are intersected with the segment's line, by Newton iteration on the surface from the
+  // proxy hits where every such triangle is crossed cleanly, else by OpenCASCADE
+  // (IntCurvesFace_Intersector); every face when the proxy has none. patch = face index; `entering` from the face's
   // outward normal. Tangential touches are dropped; a crossing through an edge shared by two
   // faces is reported once (for the face hit first).
   std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
