@@ -110,7 +110,10 @@ void expectLabelsAgree(const std::string& what, const HierarchicalOracle& oracle
   }
   EXPECT_GE(perLabel.size(), 2u) << "all points got the same label: the test would prove nothing";
   EXPECT_GE(compared, std::min<size_t>(points.size(), 1000)) << "the reference answered too few points";
-  EXPECT_LE(classifierWrong, 2) << "the classifier is wrong that often? look closer";
+  // BRepClass3d_SolidClassifier misclassifies a few points off U_Joint_2's B-spline faces
+  // (6 of 100,000, 1.7-3.4 mm from the surface, where three ray-parity tests agree with the
+  // oracle); more than 1 in 10,000 would mean the second opinion itself is off.
+  EXPECT_LE(classifierWrong, 2 + static_cast<int>(compared / 10000)) << "the classifier is wrong that often? look closer";
   std::cout << "[ figures  ] " << what << ": label() " << count / oursSeconds << " points/s on " << count
             << " points; BRepClass3d_SolidClassifier by priority (2 threads) " << compared / referenceSeconds
             << " points/s, " << compared << " points compared in " << referenceSeconds << " s; " << inBand

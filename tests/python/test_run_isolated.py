@@ -89,7 +89,8 @@ def test_cancel_event_ends_the_child_without_a_progress_report():
         return True
 
     with pytest.raises(oraclemesh.Cancelled):
-        oraclemesh.run_isolated(sphere_job(order=2, criteria={"default": {"cell_size": 1.0}}),
+        # ~3 s of meshing here (0.3 s at cell size 1 since Mesh_3 uses exact crossings).
+        oraclemesh.run_isolated(sphere_job(order=2, criteria={"default": {"cell_size": 0.5}}),
                                 progress=progress, cancel=cancel)
     assert time.time() - marks["set"] < 1.0
     assert worker_pids() == []
