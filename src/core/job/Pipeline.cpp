@@ -260,7 +260,15 @@ std::vector<std::vector<int64_t>> tetsOfVertices(const TetMesh& mesh) {
 // other faces as the (equally flat) surface there. Interface slivers are not removed (that
 // would open the interface); the snap leaves their corners where they are instead.
 int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target) {
-  std::map<std::array<int64_t, 3>, int> faceUse;
+  // The outer faces are the boundary triangles with nothing beyond them (mesh.boundary is
+  // current when the snap runs).
+  std::set<std::array<int64_t, 3>> outer;
+  for (const BoundaryTriangle& b : mesh.boundary)
+    if (b.material_out == 0) {
+      std::array<int64_t, 3> f = b.v;
+      std::sort(f.begin(), f.end());
+      outer.insert(f);
+    }
   auto faceOf = [&](size_t t, int skip) {
     std::array<int64_t, 3> f{};
     int n = 0;
@@ -269,21 +277,26 @@ int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& targe
     std::sort(f.begin(), f.end());
     return f;
   };
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int k = 0; k < 4; ++k) ++faceUse[faceOf(t, k)];
+  std::set<std::array<int64_t, 3>> exposed;  // inner faces of tets removed in this pass
   std::vector<char> remove(mesh.tets.size(), 0);
   int64_t removed = 0;
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     int outside = 0;
-    for (int k = 0; k < 4; ++k) outside += faceUse[faceOf(t, k)] == 1;
-    if (outside < 2 || outside > 3) continue;
+    bool nextToRemoved = false;
+    for (int k = 0; k < 4; ++k) {
+      const auto f = faceOf(t, k);
+      outside += outer.count(f) > 0;
+      nextToRemoved |= exposed.count(f) > 0;
+    }
+    // A neighbour of a removed tet waits for another pass: removing both sides of a face
+    // would open the mesh.
+    if (outside < 2 || outside > 3 || nextToRemoved) continue;
     const auto& c = mesh.tets[t];
     if (tetVolume(target[c[0]], target[c[1]], target[c[2]], target[c[3]]) > 0) continue;
     remove[t] = 1;
     ++removed;
-    // Its neighbours' faces become outside: keep them from qualifying in this same pass, which
-    // could remove both sides of a face and open the mesh.
-    for (int k = 0; k < 4; ++k) faceUse[faceOf(t, k)] += 2;
+    for (int k = 0; k < 4; ++k)
+      if (!outer.count(faceOf(t, k))) exposed.insert(faceOf(t, k));
   }
   if (removed == 0) return 0;
   size_t kept = 0;
