@@ -8,24 +8,12 @@ import pytest
 
 import oraclemesh
 from test_job_contract import sphere_job
+from worker_processes import live_worker_children  # noqa: E402
 
 
 def worker_pids():
     """This test process's live oraclemesh.worker children (other runs may have their own)."""
-    pids = []
-    for pid in os.listdir("/proc"):
-        if pid.isdigit():
-            try:
-                with open("/proc/%s/cmdline" % pid, "rb") as f:
-                    cmdline = f.read()
-                with open("/proc/%s/stat" % pid) as f:
-                    fields = f.read().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            state, parent = fields[0], int(fields[1])
-            if b"oraclemesh.worker" in cmdline and parent == os.getpid() and state != "Z":
-                pids.append(int(pid))
-    return pids
+    return live_worker_children()
 
 
 def test_same_mesh_as_in_process():

@@ -351,20 +351,8 @@ def check(out):
 
 def worker_children():
     """Live oraclemesh.worker processes that are children of this FreeCAD."""
-    pids = []
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit():
-            continue
-        try:
-            with open("/proc/%s/cmdline" % pid, "rb") as f:
-                cmdline = f.read()
-            with open("/proc/%s/stat" % pid) as f:
-                fields = f.read().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        if b"oraclemesh.worker" in cmdline and int(fields[1]) == os.getpid() and fields[0] != "Z":
-            pids.append(int(pid))
-    return pids
+    from worker_processes import live_worker_children
+    return live_worker_children()
 
 
 result = {"ok": True}
