@@ -1,0 +1,64 @@
+#include "features/RuleSetQ.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace oraclemesh {
+
+namespace {
+
+// Polyline ends are exact B-rep vertices or clip points computed once and copied, so equal
+// ends agree to rounding; a grid of cell size `tolerance` finds them without an O(n^2) scan.
+using GridCell = std::array<long long, 3>;
+
+GridCell cellOf(const Point3& p, double tolerance) {
+  return {static_cast<long long>(std::floor(p[0] / tolerance)), static_cast<long long>(std::floor(p[1] / tolerance)),
+          static_cast<long long>(std::floor(p[2] / tolerance))};
+}
+
+double endSegmentLength(const FeaturePolyline& polyline, bool atStart) {
+  const std::vector<Point3>& p = polyline.points;
+  return atStart ? distance(p[0], p[1]) : distance(p[p.size() - 1], p[p.size() - 2]);
+}
+
+}  // namespace
+
+std::vector<StarVertex> findStarVertices(const FeatureGraph& graph, double tolerance) {
+  std::vector<StarVertex> vertices;
+  std::map<GridCell, std::vector<int>> grid;  // cell -> indices into `vertices`
+  auto vertexAt = [&](const Point3& p) -> StarVertex& {
+    const GridCell c = cellOf(p, tolerance);
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy)
+        for (long long dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+          if (it == grid.end()) continue;
+          for (int v : it->second)
+            if (distance(vertices[v].point, p) <= tolerance) return vertices[v];
+        }
+    grid[c].push_back(static_cast<int>(vertices.size()));
+    vertices.push_back(StarVertex{p, {}, 0});
+    return vertices.back();
+  };
+  for (size_t i = 0; i < graph.polylines.size(); ++i) {
+    const FeaturePolyline& pl = graph.polylines[i];
+    if (pl.points.size() < 2) continue;
+    vertexAt(pl.points.front()).incident.push_back({static_cast<int>(i), true});
+    vertexAt(pl.points.back()).incident.push_back({static_cast<int>(i), false});
+  }
+  std::vector<StarVertex> stars;
+  for (StarVertex& v : vertices) {
+    if (v.incident.size() < 2) continue;
+    v.shortest_incident_length = std::numeric_limits<double>::infinity();
+    for (const StarVertex::Incident& e : v.incident)
+      v.shortest_incident_length =
+          std::min(v.shortest_incident_length, endSegmentLength(graph.polylines[e.polyline], e.at_start));
+    stars.push_back(std::move(v));
+  }
+  std::sort(stars.begin(), stars.end(), [](const StarVertex& a, const StarVertex& b) { return a.point < b.point; });
+  return stars;
+}
+
+}  // namespace oraclemesh

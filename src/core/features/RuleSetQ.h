@@ -1,0 +1,33 @@
+#pragma once
+// Rule Set Q (thesis §3.2.2): the segment-splitting rules that make Delaunay refinement of
+// constrained segments terminate. Star vertices are where constrained curves meet; the thesis'
+// Q1 makes every segment incident to a star vertex equally long (l_min/3) so that splitting
+// one of them never encroaches another.
+//
+// Our polylines sample smooth curves, so a polyline's inner vertices are not corners: a star
+// vertex is an end point shared by two or more polyline ends (a B-rep vertex where edges meet,
+// a junction curve leaving a sharp edge, a split at a crossing). A polyline end that no other
+// polyline touches is an ordinary end.
+#include <vector>
+
+#include "features/FeatureGraph.h"
+
+namespace oraclemesh {
+
+struct StarVertex {
+  struct Incident {
+    int polyline = -1;    // index into FeatureGraph::polylines
+    bool at_start = true;  // the star vertex is points.front() (else points.back())
+  };
+  Point3 point{};
+  std::vector<Incident> incident;  // two or more polyline ends
+  // l_min,i of the thesis: the shortest constrained segment incident to the vertex, i.e.
+  // the shortest first (or last) segment of the incident polylines.
+  double shortest_incident_length = 0;
+};
+
+// The star vertices of `graph`: polyline ends closer than `tolerance` are the same vertex.
+// Sorted by position (lexicographic), so the order does not depend on polyline order.
+std::vector<StarVertex> findStarVertices(const FeatureGraph& graph, double tolerance);
+
+}  // namespace oraclemesh
