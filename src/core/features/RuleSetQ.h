@@ -7,7 +7,8 @@
 // Our polylines sample smooth curves, so a polyline's inner vertices are not corners: a star
 // vertex is an end point shared by two or more polyline ends (a B-rep vertex where edges meet,
 // a junction curve leaving a sharp edge, a split at a crossing). A polyline end that no other
-// polyline touches is an ordinary end.
+// polyline touches is an ordinary end. A closed polyline (a full circle) whose two ends meet at
+// its one B-rep vertex makes that vertex a star vertex, as the thesis' definition says.
 #include <vector>
 
 #include "features/FeatureGraph.h"
