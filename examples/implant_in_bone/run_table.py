@@ -1,7 +1,7 @@
 """The thesis experiment on the implant-in-bone example, measured in one run:
 
     PYTHONPATH=build/python /usr/bin/python3 examples/implant_in_bone/run_table.py
-        [--rows a,b,c,d] [--coarsen F] [--json FILE]
+        [--rows a,b,c,d] [--coarsen F] [--json FILE] [--inputs DIR]
 
 (a) thesis engine with constrained segments, (b) thesis engine featureless, (c) Mesh_3
 featureless, (d) Mesh_3 with protecting balls; all from implant_in_bone.json (the thesis
@@ -67,13 +67,13 @@ def engine_unavailable(message, engine):
     return ("engine '%s'" % engine) in message and "not available" in message
 
 
-def measure_row(key, base, inputs, coarsen):
+def measure_row(key, base, inputs, coarsen, folder):
     label, engine, features = ROWS[key]
     job = job_for(base, engine, features, coarsen)
     row = {"row": key, "label": label, "engine": engine, "features": features}
     start = time.perf_counter()
     try:
-        result = oraclemesh.run(job, base_directory=HERE)
+        result = oraclemesh.run(job, base_directory=folder)
     except oraclemesh.Error as e:
         row["status"] = ("engine '%s' not available" % engine) if engine_unavailable(str(e), engine) else "error: %s" % e
         return row
@@ -88,7 +88,8 @@ def measure_row(key, base, inputs, coarsen):
     row["min_dihedral_deg"] = float(angles.min())
     row["max_dihedral_deg"] = float(angles.max())
     t0 = time.perf_counter()
-    row["hausdorff_mesh_to_inputs"], row["hausdorff_inputs_to_mesh"] = measure.hausdorff(result, inputs)
+    distances = measure.hausdorff(result, inputs)
+    row["hausdorff_implant"], row["hausdorff_bone_and_cut"] = distances["implant"], distances["bone_and_cut"]
     implant_facet_distance = job["criteria"]["materials"]["1"]["facet_distance"]
     row["sharp_edges_by_feature_edges_pct"], row["sharp_edges_by_mesh_edges_pct"] = measure.sharp_edges_kept(
         result, inputs, chord_tolerance=implant_facet_distance)
@@ -102,12 +103,16 @@ def number(value, digits):
     return ("%%.%df" % digits) % value
 
 
+def pair(distances):
+    return "%.3f / %.3f" % tuple(distances)
+
+
 def print_table(rows, coarsen, out=sys.stdout):
     w = out.write
     w("\nimplant_in_bone (mm; implant = material 1, bone = material 2)%s\n\n"
       % ("" if coarsen == 1 else ", sizes x %g" % coarsen))
-    w("| row | tets implant | tets bone | vertices | min dihedral | max dihedral | Hausdorff mesh->inputs "
-      "| Hausdorff inputs->mesh | sharp edges by feature edges % | sharp edges by mesh edges % | seconds |\n")
+    w("| row | tets implant | tets bone | vertices | min dihedral | max dihedral | Hausdorff implant "
+      "| Hausdorff bone + cut | sharp edges by feature edges % | sharp edges by mesh edges % | seconds |\n")
     w("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     for r in rows:
         if r["status"] != "ok":
@@ -116,8 +121,8 @@ def print_table(rows, coarsen, out=sys.stdout):
         t = r["tets_per_material"]
         w("| %s | %d | %d | %d | %s | %s | %s | %s | %s | %s | %s |\n" % (
             r["label"], t.get("1", 0), t.get("2", 0), r["vertices"], number(r["min_dihedral_deg"], 2),
-            number(r["max_dihedral_deg"], 2), number(r["hausdorff_mesh_to_inputs"], 3),
-            number(r["hausdorff_inputs_to_mesh"], 3), number(r["sharp_edges_by_feature_edges_pct"], 1),
+            number(r["max_dihedral_deg"], 2), pair(r["hausdorff_implant"]), pair(r["hausdorff_bone_and_cut"]),
+            number(r["sharp_edges_by_feature_edges_pct"], 1),
             number(r["sharp_edges_by_mesh_edges_pct"], 1), number(r["seconds_total"], 1)))
     measured = [r for r in rows if r["status"] == "ok"]
     if measured:
@@ -128,9 +133,10 @@ def print_table(rows, coarsen, out=sys.stdout):
             w("| %s | %s |\n" % (r["label"], " | ".join(
                 number(r["seconds"][p], 2) if p in r["seconds"] else "-" for p in phases)))
         applied = sorted({r["radius_edge_ratio_applied"] for r in measured if r.get("radius_edge_ratio_applied")})
-        w("\nRadius-edge bound applied: %s. Hausdorff: distances (measure.TriangleDistance) from the "
-          "boundary nodes, edge midpoints and centroids to the inputs, and from %d samples of the composite input "
-          "boundary to the mesh boundary. Sharp edges: samples of the implant's sharp B-rep edges "
+        w("\nRadius-edge bound applied: %s. Hausdorff (mm, mesh -> inputs / inputs -> mesh): from the "
+          "boundary nodes, edge midpoints and centroids to the input surfaces (implant: triangles with the implant "
+          "on one side, to the implant's surface), and from %d samples of the composite input boundary to the mesh "
+          "boundary. Sharp edges: samples of the implant's sharp B-rep edges "
           "within the implant facet distance of a mesh edge whose end nodes lie on them (1e-3 mm).\n"
           % (", ".join("%g" % a for a in applied) or "-", len(INPUTS.boundary_samples) if INPUTS else 0))
 
@@ -144,18 +150,20 @@ def main(argv=None):
     parser.add_argument("--rows", default="a,b,c,d")
     parser.add_argument("--coarsen", type=float, default=1.0)
     parser.add_argument("--json", help="also write the rows as JSON to this file")
+    parser.add_argument("--inputs", default=HERE, help="folder of the generated inputs (default: this folder)")
     args = parser.parse_args(argv)
     keys = [k.strip() for k in args.rows.split(",") if k.strip()]
     unknown = [k for k in keys if k not in ROWS]
     if unknown:
         parser.error("unknown rows %s: use a, b, c, d" % ",".join(unknown))
-    ensure_inputs(HERE)
+    folder = os.path.abspath(args.inputs)
+    ensure_inputs(folder)
     with open(os.path.join(HERE, "implant_in_bone.json")) as f:
         base = json.load(f)
-    INPUTS = measure.ImplantInBone(HERE)
+    INPUTS = measure.ImplantInBone(folder)
     rows = []
     for key in keys:
-        rows.append(measure_row(key, base, INPUTS, args.coarsen))
+        rows.append(measure_row(key, base, INPUTS, args.coarsen, folder))
         print("%s: %s" % (rows[-1]["label"], rows[-1]["status"]), file=sys.stderr, flush=True)
     print_table(rows, args.coarsen)
     if args.json:
