@@ -137,6 +137,13 @@ TEST(SliverRemoval, RaisesMinimumDihedralAndKeepsVolumesBoundaryAndFeatures) {
   for (int64_t v : boundaryVertices)
     worst = std::max(worst, demo.oracle.projectOnBoundary(after.points[v]).distance);
   EXPECT_LT(worst, 1e-5 * diagonal);
+
+  // Deterministic: the same mesh in gives the same mesh out.
+  TetMesh again = before;
+  optimizeTetMeshWithCgal(again, demo.oracle, demoOptions(), RunControl());
+  EXPECT_EQ(again.points, after.points);
+  EXPECT_EQ(again.tets, after.tets);
+  EXPECT_EQ(again.tet_materials, after.tet_materials);
 }
 
 TEST(SliverRemoval, RejectsATetMeshThatIsNotDelaunay) {
