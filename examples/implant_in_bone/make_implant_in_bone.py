@@ -52,7 +52,6 @@ def smoothstep(t):
 def bone_profile(rows):
     """(rho, z) of the bone's meridian from the lower pole to the upper pole, `rows` points
     evenly spaced in arc length (poles excluded), z strictly increasing."""
-    s = np.linspace(0, 1, 4000)
     # Lower end: a quarter ellipse; then the shaft and flare; then a flattened upper cap.
     parts = []
     a = np.linspace(-math.pi / 2, 0, 400)[1:]
@@ -67,7 +66,6 @@ def bone_profile(rows):
     curve = np.concatenate(parts)
     curve = np.concatenate([[[0.0, 0.0]], curve, [[0.0, TOP_Z]]])
     arc = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
-    del s
     targets = np.linspace(0, arc[-1], rows + 2)[1:-1]
     return np.stack([np.interp(targets, arc, curve[:, 0]), np.interp(targets, arc, curve[:, 1])], 1)
 

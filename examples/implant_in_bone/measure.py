@@ -260,7 +260,7 @@ class ImplantInBone:
                 plane = self.box[side][axis]
                 if not lo[axis] < plane < hi[axis]:
                     continue
-                a, b = [(k) for k in range(3) if k != axis]
+                a, b = [k for k in range(3) if k != axis]
                 flo = np.maximum(self.box[0], lo)
                 fhi = np.minimum(self.box[1], hi)
                 q = np.empty((count, 3))
