@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <thread>
 #include <functional>
@@ -98,6 +99,9 @@ class OracleLabeledDomain : public CGAL::Labeled_mesh_domain_3<K> {
   };
 
   Construct_intersection construct_intersection_object() const { return Construct_intersection{*this}; }
+
+  // The surface patch index Mesh_3 gives the boundary between two labels.
+  Surface_patch_index surfacePatchBetween(int labelA, int labelB) const { return make_surface_index(labelA, labelB); }
 
  private:
   const HierarchicalOracle* oracle_;
@@ -212,6 +216,49 @@ int64_t insertBoundarySeeds(C3t3& c3t3, const Domain& domain, const Hierarchical
   return count;
 }
 
+// Bisection stops at relative_error_bound x diagonal; the pipeline then projects boundary
+// vertices exactly onto the CAD, so this only needs to be small against the mesh size.
+const FT kRelativeBisectionError = 1e-6;
+
+CGAL::Bbox_3 meshingBox(const HierarchicalOracle& oracle) {
+  const Bbox box = oracle.bbox();
+  const double margin = 0.02 * box.diagonal();
+  return CGAL::Bbox_3(box.min[0] - margin, box.min[1] - margin, box.min[2] - margin, box.max[0] + margin,
+                      box.max[1] + margin, box.max[2] + margin);
+}
+
+void throwIfCancelledOrLate(const RunControl& control) {
+  if (control.cancelRequested()) throw Cancelled();
+  control.checkpoint();  // throws the time-limit LimitError once the limit has passed
+}
+
+// Perturbation then exudation, the sliver removal of every engine. The optimizers take no
+// stop flag, only a time limit: each gets what is left of the job's limit (0 = none for
+// CGAL), so limits.time_limit holds in every phase.
+void removeSlivers(C3t3& c3t3, const Domain& domain, const Mesh3Options& options, const RunControl& control,
+                   PhaseTimer& timer) {
+  namespace p = CGAL::parameters;
+  auto optimizerTimeLimit = [&]() {
+    double limit = options.optimize_time_limit > 0 ? options.optimize_time_limit : std::numeric_limits<double>::infinity();
+    limit = std::min(limit, control.remainingSeconds());
+    return std::isfinite(limit) ? std::max(limit, 1e-3) : 0.0;
+  };
+  if (options.perturb) {
+    control.report("perturb", 0);
+    // Perturbation only works on slivers below the bound: with no bound it keeps trying to
+    // raise the worst angle until the time limit, which makes the result machine-dependent.
+    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = optimizerTimeLimit(), p::sliver_bound = options.sliver_bound);
+    throwIfCancelledOrLate(control);
+  }
+  timer.finish("perturb");
+  if (options.exude) {
+    control.report("exude", 0);
+    CGAL::exude_mesh_3(c3t3, p::time_limit = optimizerTimeLimit(), p::sliver_bound = options.sliver_bound);
+    throwIfCancelledOrLate(control);
+  }
+  timer.finish("exude");
+}
+
 TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector<int>& curveIdOfIndex) {
   TetMesh mesh;
   std::unordered_map<Tr::Vertex_handle, int64_t> index;
@@ -219,6 +266,7 @@ TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector
     auto [it, added] = index.emplace(v, static_cast<int64_t>(mesh.points.size()));
     if (added) {
       mesh.points.push_back(toPoint3(c3t3.triangulation().point(v).point()));
+      mesh.vertex_weights.push_back(c3t3.triangulation().point(v).weight());
       const int dim = c3t3.in_dimension(v);
       mesh.vertex_dimension.push_back(dim);
       int curve = -1;
@@ -253,10 +301,6 @@ TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector
 TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& features,
                           const Mesh3Options& options, const RunControl& control, Mesh3Statistics* statistics) {
   PhaseTimer timer(statistics);
-  const Bbox box = oracle.bbox();
-  const double margin = 0.02 * box.diagonal();
-  const CGAL::Bbox_3 cgalBox(box.min[0] - margin, box.min[1] - margin, box.min[2] - margin,
-                             box.max[0] + margin, box.max[1] + margin, box.max[2] + margin);
 
   // The stop flag is how Mesh_3's refinement and edge protection are interrupted. A watchdog
   // raises it on cancel or time-out, whatever phase is running; the labeling function, called
@@ -289,10 +333,8 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
     return oracle.label(toPoint3(p));
   };
 
-  // Bisection stops at relative_error_bound x diagonal; the pipeline then projects boundary
-  // vertices exactly onto the CAD, so this only needs to be small against the mesh size.
   CGAL::Random random(options.seed);
-  Domain domain(oracle, labeling, cgalBox, FT(1e-6), &random);
+  Domain domain(oracle, labeling, meshingBox(oracle), kRelativeBisectionError, &random);
 
   std::vector<int> curveIdOfIndex(1, -1);  // Mesh_3 curve indices start at 1
   if (!features.empty()) {
@@ -326,19 +368,10 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   CGAL::Mesh_error_code errorCode = CGAL::CGAL_MESH_3_NO_ERROR;
   const std::size_t maxVertices = options.max_vertices > 0 ? static_cast<std::size_t>(options.max_vertices) : 0;
   auto throwIfStopped = [&](const char* phase) {
-    if (control.cancelRequested()) throw Cancelled();
-    control.checkpoint();  // throws the time-limit LimitError once the limit has passed
+    throwIfCancelledOrLate(control);
     if (errorCode == CGAL::CGAL_MESH_3_MAXIMAL_NUMBER_OF_VERTICES_REACHED)
       throw LimitError(std::string("the mesh reached limits.max_vertices = ") + std::to_string(options.max_vertices) +
                        " vertices during " + phase + ": coarsen cell_size / facet_size / facet_distance or raise the limit");
-  };
-
-  // The optimizers take no stop flag, only a time limit: they get what is left of the job's
-  // limit (0 = none for CGAL), so limits.time_limit holds in every phase.
-  auto optimizerTimeLimit = [&]() {
-    double limit = options.optimize_time_limit > 0 ? options.optimize_time_limit : std::numeric_limits<double>::infinity();
-    limit = std::min(limit, control.remainingSeconds());
-    return std::isfinite(limit) ? std::max(limit, 1e-3) : 0.0;
   };
 
   control.report("protect features", 0);
@@ -365,27 +398,170 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
                      "lower cell_size and facet_size below the smallest part's thickness");
   timer.finish("refine");
 
-  if (options.perturb) {
-    phase = "perturb";
-    control.report(phase, 0);
-    // Perturbation only works on slivers below the bound: with no bound it keeps trying to
-    // raise the worst angle until the time limit, which makes the result machine-dependent.
-    CGAL::perturb_mesh_3(c3t3, domain, p::time_limit = optimizerTimeLimit(),
-                         p::sliver_bound = options.sliver_bound);
-    throwIfStopped("perturbation");
-  }
-  timer.finish("perturb");
-  if (options.exude) {
-    phase = "exude";
-    control.report(phase, 0);
-    CGAL::exude_mesh_3(c3t3, p::time_limit = optimizerTimeLimit(), p::sliver_bound = options.sliver_bound);
-    throwIfStopped("exudation");
-  }
-  timer.finish("exude");
-
+  phase = "optimize";  // the labeling function reports refinement progress only
+  removeSlivers(c3t3, domain, options, control, timer);
   TetMesh mesh = extractTetMesh(c3t3, domain, curveIdOfIndex);
   timer.finish("extract");
   return mesh;
+}
+
+namespace {
+
+std::string pointText(const Point3& p) {
+  return "(" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
+}
+
+void requireOptimizableMesh(const TetMesh& mesh) {
+  if (mesh.order() != 1)
+    throw Error("sliver removal works on the corner mesh: run it before making second-order elements");
+  if (mesh.tets.empty()) throw Error("sliver removal got an empty mesh: there is nothing to optimize");
+  if (mesh.tet_materials.size() != mesh.tets.size() || mesh.feature_edge_curves.size() != mesh.feature_edges.size() ||
+      (!mesh.vertex_weights.empty() && mesh.vertex_weights.size() != mesh.points.size()) ||
+      (!mesh.vertex_dimension.empty() && mesh.vertex_dimension.size() != mesh.points.size()))
+    throw Error("internal error: sliver removal got a mesh whose per-tet, per-edge or per-vertex arrays do not "
+                "match its sizes; please report this with the job file");
+  for (const auto& tet : mesh.tets)
+    for (int64_t v : tet)
+      if (v < 0 || v >= static_cast<int64_t>(mesh.points.size()))
+        throw Error("internal error: a tet refers to point " + std::to_string(v) + " of " +
+                    std::to_string(mesh.points.size()) + "; please report this with the job file");
+  for (int material : mesh.tet_materials)
+    if (material <= 0) throw Error("internal error: sliver removal got a tet of material " + std::to_string(material));
+}
+
+const char* const kNotTheTriangulation =
+    ": sliver removal needs the mesh to be the (weighted) Delaunay triangulation of its vertices restricted to the "
+    "domain, as Delaunay refinement makes it; optimize before moving vertices (the boundary snap) or changing tets";
+
+// The C3T3 Mesh_3 would have made for `mesh`: its points in a regular triangulation, its tets
+// as cells in complex, the faces between different materials (or the outside) as boundary
+// facets, feature edges as curves with their ends and junctions as corners. Vertex
+// dimensions come from that complex, so the optimizers move interior and surface vertices
+// only. Returns the curve id of each curve index.
+std::vector<int> buildComplexFromMesh(const TetMesh& mesh, const Domain& domain, C3t3& c3t3) {
+  requireOptimizableMesh(mesh);
+  Tr& tr = c3t3.triangulation();
+  const auto cwp = tr.geom_traits().construct_weighted_point_3_object();
+  std::vector<Tr::Vertex_handle> vertexOf(mesh.points.size());
+  Tr::Cell_handle hint;
+  for (size_t i = 0; i < mesh.points.size(); ++i) {
+    const double weight = mesh.vertex_weights.empty() ? 0.0 : mesh.vertex_weights[i];
+    const Tr::Vertex_handle v = tr.insert(cwp(toCgal(mesh.points[i]), weight), hint);
+    if (v == Tr::Vertex_handle() || tr.number_of_vertices() != i + 1)
+      throw Error("vertex " + std::to_string(i) + " at " + pointText(mesh.points[i]) +
+                  " repeats another vertex or is hidden by a weighted one" + kNotTheTriangulation);
+    vertexOf[i] = v;
+    hint = v->cell();
+  }
+  if (tr.dimension() < 3) throw Error(std::string("the mesh's vertices are coplanar") + kNotTheTriangulation);
+
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& tet = mesh.tets[t];
+    Tr::Cell_handle cell;
+    if (!tr.is_cell(vertexOf[tet[0]], vertexOf[tet[1]], vertexOf[tet[2]], vertexOf[tet[3]], cell))
+      throw Error("tet " + std::to_string(t) + " near " + pointText(mesh.points[tet[0]]) +
+                  " is not a cell of the Delaunay triangulation of the mesh's vertices" + kNotTheTriangulation);
+    if (c3t3.is_in_complex(cell)) throw Error("tet " + std::to_string(t) + " is listed twice" + kNotTheTriangulation);
+    c3t3.add_to_complex(cell, mesh.tet_materials[t]);
+  }
+
+  auto labelOf = [&](Tr::Cell_handle c) { return c3t3.is_in_complex(c) ? c3t3.subdomain_index(c) : 0; };
+  std::vector<char> onBoundary(mesh.points.size(), 0);
+  std::unordered_map<Tr::Vertex_handle, size_t> indexOf;
+  for (size_t i = 0; i < vertexOf.size(); ++i) indexOf.emplace(vertexOf[i], i);
+  // Every vertex gets a dimension and index even if no tet uses it: the optimizers read them.
+  for (size_t i = 0; i < vertexOf.size(); ++i) {
+    c3t3.set_dimension(vertexOf[i], 3);
+    c3t3.set_index(vertexOf[i], domain.index_from_subdomain_index(0));
+  }
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
+    const int label = c3t3.subdomain_index(c);
+    for (int k = 0; k < 4; ++k) {
+      const Tr::Vertex_handle v = c->vertex(k);
+      if (c3t3.in_dimension(v) == 3) c3t3.set_index(v, domain.index_from_subdomain_index(label));
+    }
+    for (int i = 0; i < 4; ++i) {
+      const Tr::Cell_handle other = c->neighbor(i);
+      const int otherLabel = labelOf(other);
+      if (otherLabel == label || c3t3.is_in_complex(c, i)) continue;
+      const auto patch = domain.surfacePatchBetween(label, otherLabel);
+      c3t3.add_to_complex(c, i, patch);
+      // The optimizers copy these centres to new cells; the facet centroid is a point on it.
+      const Point3 a = toPoint3(tr.point(c, (i + 1) % 4).point()), b = toPoint3(tr.point(c, (i + 2) % 4).point()),
+                   d = toPoint3(tr.point(c, (i + 3) % 4).point());
+      const Point_3 centre = toCgal((1.0 / 3.0) * (a + b + d));
+      const int mirror = other->index(c);
+      for (auto [cell, facet] : {std::make_pair(Tr::Cell_handle(c), i), std::make_pair(other, mirror)}) {
+        cell->set_facet_surface_center(facet, centre);
+        cell->set_facet_surface_center_index(facet, domain.index_from_surface_patch_index(patch));
+      }
+      for (int k = 1; k < 4; ++k) {
+        const Tr::Vertex_handle v = c->vertex((i + k) % 4);
+        if (c3t3.in_dimension(v) == 3) {
+          c3t3.set_dimension(v, 2);
+          c3t3.set_index(v, domain.index_from_surface_patch_index(patch));
+        }
+      }
+    }
+  }
+
+  // Curve indices start at 1 (Mesh_3's convention); curve ids are the TetMesh's.
+  std::vector<int> curveIdOfIndex(1, -1);
+  std::map<int, int> indexOfCurve;
+  std::vector<int> featureEdgesAt(mesh.points.size(), 0);
+  std::vector<int> firstCurveAt(mesh.points.size(), std::numeric_limits<int>::min());
+  std::vector<char> mixedCurvesAt(mesh.points.size(), 0);
+  for (size_t e = 0; e < mesh.feature_edges.size(); ++e) {
+    const auto [a, b] = mesh.feature_edges[e];
+    if (a < 0 || b < 0 || a >= static_cast<int64_t>(mesh.points.size()) || b >= static_cast<int64_t>(mesh.points.size()))
+      throw Error("internal error: feature edge " + std::to_string(e) + " refers to a missing point");
+    Tr::Cell_handle cell;
+    int i = 0, j = 0;
+    if (!tr.is_edge(vertexOf[a], vertexOf[b], cell, i, j))
+      throw Error("feature edge " + std::to_string(e) + " near " + pointText(mesh.points[a]) +
+                  " is not an edge of the Delaunay triangulation of the mesh's vertices" + kNotTheTriangulation);
+    const int curve = mesh.feature_edge_curves[e];
+    auto [it, added] = indexOfCurve.emplace(curve, static_cast<int>(curveIdOfIndex.size()));
+    if (added) curveIdOfIndex.push_back(curve);
+    c3t3.add_to_complex(vertexOf[a], vertexOf[b], it->second);
+    for (int64_t v : {a, b}) {
+      ++featureEdgesAt[v];
+      if (firstCurveAt[v] == std::numeric_limits<int>::min()) firstCurveAt[v] = curve;
+      else if (firstCurveAt[v] != curve) mixedCurvesAt[v] = 1;
+    }
+  }
+  int corners = 0;
+  for (size_t v = 0; v < mesh.points.size(); ++v) {
+    if (featureEdgesAt[v] == 0) continue;
+    // A curve's ends, and points where curves meet, are corners; the rest lie on one curve.
+    const bool corner = featureEdgesAt[v] != 2 || mixedCurvesAt[v] ||
+                        (!mesh.vertex_dimension.empty() && mesh.vertex_dimension[v] == 0);
+    if (corner) {
+      c3t3.add_to_complex(vertexOf[v], ++corners);
+      c3t3.set_dimension(vertexOf[v], 0);
+      c3t3.set_index(vertexOf[v], domain.index_from_corner_index(corners));
+    } else {
+      c3t3.set_dimension(vertexOf[v], 1);
+      c3t3.set_index(vertexOf[v], domain.index_from_curve_index(indexOfCurve.at(firstCurveAt[v])));
+    }
+  }
+  return curveIdOfIndex;
+}
+
+}  // namespace
+
+void optimizeTetMeshWithCgal(TetMesh& mesh, const HierarchicalOracle& oracle, const Mesh3Options& options,
+                             const RunControl& control, Mesh3Statistics* statistics) {
+  PhaseTimer timer(statistics);
+  std::function<int(const Point_3&)> labeling = [&](const Point_3& p) { return oracle.label(toPoint3(p)); };
+  CGAL::Random random(options.seed);
+  const Domain domain(oracle, labeling, meshingBox(oracle), kRelativeBisectionError, &random);
+  C3t3 c3t3;
+  const std::vector<int> curveIdOfIndex = buildComplexFromMesh(mesh, domain, c3t3);
+  timer.finish("rebuild_complex");
+  removeSlivers(c3t3, domain, options, control, timer);
+  mesh = extractTetMesh(c3t3, domain, curveIdOfIndex);
+  timer.finish("extract");
 }
 
 }  // namespace oraclemesh

@@ -91,6 +91,7 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
       mesh.vertex_dimension.push_back(feature != curveOfFeatureEdge.end() ? 1 : boundaryEdges.count(e) ? 2 : 3);
     if (hasCurves) mesh.vertex_curve.push_back(feature != curveOfFeatureEdge.end() ? feature->second : -1);
   }
+  mesh.vertex_weights.clear();  // a tet10 mesh is no longer a triangulation of its nodes
   mesh.tet_mid_nodes.resize(mesh.tets.size());
   for (size_t t = 0; t < mesh.tets.size(); ++t)
     for (int e = 0; e < 6; ++e) mesh.tet_mid_nodes[t][e] = firstMidNode + edgesOfTet[t][e];

@@ -27,6 +27,10 @@ struct TetMesh {
   // Feature curve id of each dimension-1 vertex (-1 for all others); lets later phases put
   // such vertices back onto their exact B-rep edge.
   std::vector<int> vertex_curve;
+  // Weight (squared ball radius) of each vertex in the regular triangulation the mesh came
+  // from; empty means all zero (a Delaunay mesh). Mesh_3's protecting balls and exudation
+  // leave weights, and the sliver optimizers need them to rebuild that same triangulation.
+  std::vector<double> vertex_weights;
 
   // Second order (empty when element_order == 1): mid-edge nodes per tet in the order
   // 01, 12, 20, 03, 13, 23 (= FreeCAD's 12, 23, 31, 14, 24, 34), indices into `points`.
