@@ -83,7 +83,8 @@ using Facet = Delaunay::Facet;
 Point3 toPoint3(const CgalPoint& p) { return {p.x(), p.y(), p.z()}; }
 CgalPoint toCgal(const Point3& p) { return CgalPoint(p[0], p[1], p[2]); }
 
-double squared(double x) { return x * x; }
+// 6 V / l_min^3 of a cell below which it counts as flat (a regular tetrahedron has 0.71).
+constexpr double kFlatCell = 1e-4;
 
 uint64_t pairKey(int64_t a, int64_t b) {
   if (a > b) std::swap(a, b);
@@ -429,8 +430,21 @@ class RuleSetTRefiner {
       if (sizeFails) *sizeFails = true;
       if (reason) *reason = "circumradius above cell_size";
     }
+    const double shortest = shortestEdge(c);
+    // Beyond the thesis: a cell whose four corners are (all but) coplanar, as boundary points
+    // placed symmetrically on two faces of a concave edge make them, has a fine radius-edge
+    // ratio but no volume, and no vertex move after refinement can open it. Its circumcentre
+    // goes in like any bad cell's (with the same redirections).
+    const double flatness = 6 * std::abs(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
+                                                      c->vertex(2)->point(), c->vertex(3)->point())) /
+                            (shortest * shortest * shortest);
+    if (flatness < kFlatCell) {
+      worst = std::max(worst, 1e3);
+      if (sizeFails) *sizeFails = true;
+      if (reason) *reason = "flat cell (four nearly coplanar corners)";
+    }
     if (crit.cell_radius_edge_ratio > 0) {
-      const double ratio = r / shortestEdge(c) / crit.cell_radius_edge_ratio;
+      const double ratio = r / shortest / crit.cell_radius_edge_ratio;
       if (ratio > 1 && ratio > worst) {
         worst = ratio;
         if (reason) *reason = "radius-edge ratio above cell_radius_edge_ratio";
@@ -618,17 +632,25 @@ class RuleSetTRefiner {
     // Points on every face of every input that lies on the composite boundary: exact
     // crossings of a short probe across the sample, inserted unless they encroach a
     // subsegment (the boundary there is reached by segment splits instead).
+    // The samples lie on regular grids, and grid points on two faces of an edge are
+    // cospherical: their Delaunay cells are flat, with circumcentres nothing can be computed
+    // from. A seeded shift along the face (a tenth of the spacing) puts them in general position.
     const double probe = 1e-4 * oracle_.diagonal();
+    std::mt19937 random(options_.seed);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
     std::vector<Point3> samples;
     for (const OracleEntry& entry : oracle_.entries()) {
       const double facetSize = entry.role == Role::Material ? options_.criteria.of(entry.material).facet_size
                                                             : options_.criteria.defaults.facet_size;
       for (const BoundarySample& s : entry.source->boundarySamples(2 * facetSize)) {
-        const auto crossings = oracle_.crossings(s.point - probe * s.normal, s.point + probe * s.normal);
+        Point3 shift{unit(random), unit(random), unit(random)};
+        shift = shift - dot(shift, s.normal) * s.normal;
+        const Point3 at = s.point + (0.1 * facetSize) * shift;
+        auto crossings = oracle_.crossings(at - probe * s.normal, at + probe * s.normal);
+        if (crossings.empty()) crossings = oracle_.crossings(s.point - probe * s.normal, s.point + probe * s.normal);
         if (!crossings.empty()) samples.push_back(crossings.front().point);
       }
     }
-    std::mt19937 random(options_.seed);
     for (size_t k = samples.size(); k > 1; --k) std::swap(samples[k - 1], samples[random() % k]);
     for (const Point3& p : samples) {
       const Zone zone = examine(p, lastCell_);
@@ -643,6 +665,13 @@ class RuleSetTRefiner {
   // ------------------------------------------------------------------------ refinement
   void leave(const std::string& kind, const std::string& reason, uint64_t stamp, int facet) {
     leftReasons_[{stamp, facet}] = kind + ": " + reason;
+  }
+
+  // A redirection inserts another point than the element's own, which may leave the element
+  // in place: it goes back into its queue (and is dropped there once it is gone or good).
+  static bool requeue(std::priority_queue<QueueEntry>& queue, const QueueEntry& e) {
+    if (e.cell->info().stamp == e.stamp) queue.push(e);
+    return true;
   }
 
   bool refineOneSegment() {
@@ -676,7 +705,7 @@ class RuleSetTRefiner {
           leave("facet", "its ball centre encroaches a subsegment shorter than the terminator length", e.stamp, e.facet);
           continue;
         }
-        if (splitEncroached(zone.encroached, "T2.1")) return true;
+        if (splitEncroached(zone.encroached, "T2.1")) return requeue(facetQueue_, e);
         leave("facet", "the subsegment its ball centre encroaches cannot be split", e.stamp, e.facet);
         continue;
       }
@@ -736,7 +765,7 @@ class RuleSetTRefiner {
       }
       if (zone.encroached >= 0) {  // T3.1
         if (refuseSplit(zone.encroached, "T3.1")) continue;
-        if (splitEncroached(zone.encroached, "T3.1")) return true;
+        if (splitEncroached(zone.encroached, "T3.1")) return requeue(cellQueue_, e);
         leave("cell", "the subsegment its circumcentre encroaches cannot be split", e.stamp, -1);
         continue;
       }
@@ -745,14 +774,14 @@ class RuleSetTRefiner {
         const Zone surface = examine(ballCentre, e.cell);
         if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
           if (refuseSplit(surface.encroached, "T3.2")) continue;
-          if (splitEncroached(surface.encroached, "T3.2")) return true;
+          if (splitEncroached(surface.encroached, "T3.2")) return requeue(cellQueue_, e);
           leave("cell", "the subsegment its surface ball centre encroaches cannot be split", e.stamp, -1);
           continue;
         }
         if (!surface.duplicate && surface.insertionRadius >= terminatorLength_) {  // T3.3
           commit(surface, 2, -1);
           ++stats_.insertions["T3.3"];
-          return true;
+          return requeue(cellQueue_, e);
         }
         leave("cell", "the surface ball centre it maps to is closer than the terminator length to a vertex", e.stamp,
               -1);
