@@ -14,6 +14,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <thread>
 
 #include "Error.h"
 #include "demo_assembly_job.h"
@@ -202,6 +203,14 @@ TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {
   EXPECT_NEAR(volumes.at(1), wedgeVolume, 0.02 * wedgeVolume);
   EXPECT_NEAR(volumes.at(2), coneVolume, 0.03 * coneVolume);
   EXPECT_EQ(r.report.at("thesis").at("final_check").at("encroached_subsegments"), 0);
+  // The terminator leaves elements only at the small angles: along the wedge's 10-degree edge
+  // (the z axis from 0 to 8) or at the cone's tip (40, 0, 15).
+  for (const auto& e : r.report.at("thesis").at("elements_left")) {
+    const Point3 p = e.at("location").get<Point3>();
+    const double toEdge = distance(p, {0, 0, std::clamp(p[2], 0.0, 8.0)});
+    EXPECT_LT(std::min(toEdge, distance(p, {40, 0, height})), 1.0) << e.dump();
+    EXPECT_FALSE(e.at("reason").get<std::string>().empty());
+  }
   std::cout << "[figures] wedge + cone, thesis: " << r.mesh.points.size() << " vertices, "
             << r.report["thesis"]["rule_insertions"].dump() << ", " << r.report["seconds"]["thesis"] << " s\n";
 }
@@ -212,6 +221,23 @@ TEST(ThesisEngine, VertexLimitStopsWithLimitError) {
   job["criteria"]["default"]["cell_size"] = 50;  // pass the up-front size estimate
   job["criteria"]["materials"]["1"]["cell_size"] = 50;
   EXPECT_THROW(runJob(JobSpec::fromJson(job, ""), RunControl()), LimitError);
+}
+
+TEST(ThesisEngine, TimeLimitStopsRefinementWithLimitError) {
+  // The time limit runs out while the engine refines: when it reports the refine phase, the
+  // progress callback waits for the limit; the engine's next checkpoint must throw.
+  RunControl* controlPointer = nullptr;
+  bool refining = false;
+  RunControl control(
+      [&](const std::string& phase, double) {
+        if (phase != "refine" || refining) return;
+        refining = true;
+        while (controlPointer->remainingSeconds() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      },
+      2.0);
+  controlPointer = &control;
+  EXPECT_THROW(runJob(JobSpec::fromJson(test::demoAssemblyJob(1, "thesis"), ""), control), LimitError);
+  EXPECT_TRUE(refining);
 }
 
 TEST(ThesisEngine, JobOptionsOfTheThesisEngine) {
