@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -215,12 +216,26 @@ TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {
             << r.report["thesis"]["rule_insertions"].dump() << ", " << r.report["seconds"]["thesis"] << " s\n";
 }
 
-TEST(ThesisEngine, VertexLimitStopsWithLimitError) {
+TEST(ThesisEngine, VertexLimitStopsWithLimitErrorAndPartialMesh) {
   json job = test::demoAssemblyJob(1, "thesis");
   job["limits"] = {{"max_vertices", 300}};
   job["criteria"]["default"]["cell_size"] = 50;  // pass the up-front size estimate
   job["criteria"]["materials"]["1"]["cell_size"] = 50;
-  EXPECT_THROW(runJob(JobSpec::fromJson(job, ""), RunControl()), LimitError);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "oraclemesh_thesis_vertex_limit";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  job["output"] = {{"files", {(dir / "mesh.vtu").string()}}};
+  try {
+    runJob(JobSpec::fromJson(job, ""), RunControl());
+    ADD_FAILURE() << "no LimitError";
+  } catch (const LimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_vertices"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mesh.partial.vtu"), std::string::npos) << e.what();
+  }
+  // The mesh so far is written for inspection, the requested file is not.
+  EXPECT_GT(std::filesystem::file_size(dir / "mesh.partial.vtu"), 1000u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "mesh.vtu"));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ThesisEngine, TimeLimitStopsRefinementWithLimitError) {

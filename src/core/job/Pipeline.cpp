@@ -362,6 +362,25 @@ SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
   return r;
 }
 
+// A refinement stopped by a limit leaves its mesh so far next to each output file
+// (mesh.vtu -> mesh.partial.vtu) for inspection; returns what to add to the error message.
+std::string writePartialMesh(const JobSpec& job, TetMesh& partial) {
+  if (partial.tets.empty() || job.output_files.empty()) return "";
+  partial.boundary = extractBoundary(partial);
+  std::string written;
+  for (const std::string& file : job.output_files) {
+    std::filesystem::path path(file);
+    path.replace_extension(".partial" + path.extension().string());
+    try {
+      writeMeshFile(path.string(), partial);
+      written += (written.empty() ? "" : ", ") + path.string();
+    } catch (const Error&) {
+      // The limit is the error to report; an unwritable partial mesh only goes unmentioned.
+    }
+  }
+  return written.empty() ? "" : " (the mesh so far, " + std::to_string(partial.tets.size()) + " tets, is in " + written + ")";
+}
+
 json qualityJson(const QualityReport& q) {
   json j;
   j["min_dihedral_deg"] = q.min_dihedral;
@@ -453,7 +472,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
           options.small_angle_curves.push_back(pl.curve);
     }
     RuleSetTStatistics stats;
-    result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
+    try {
+      result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
+    } catch (const LimitError& e) {
+      throw LimitError(e.what() + writePartialMesh(job, stats.partial));
+    }
     clock.finish("thesis");  // the engine's total; its phases are reported beside it
     for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
     seedsOnBoundary = stats.initial_points;

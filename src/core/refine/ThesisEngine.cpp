@@ -151,11 +151,16 @@ class RuleSetTRefiner {
       stats_.seconds[name] += std::chrono::duration<double>(now - t0).count();
       t0 = now;
     };
-    control_.report("initial points", 0);
-    insertInitialPoints();
-    phase("initial_points");
-    control_.report("refine", 0);
-    refine();
+    try {
+      control_.report("initial points", 0);
+      insertInitialPoints();
+      phase("initial_points");
+      control_.report("refine", 0);
+      refine();
+    } catch (const LimitError&) {
+      stats_.partial = extract();
+      throw;
+    }
     phase("refine");
     TetMesh mesh = extract();
     listLeftElements();

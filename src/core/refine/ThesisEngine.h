@@ -52,13 +52,16 @@ struct RuleSetTStatistics {
   int64_t subsegments_not_edges = 0;
   int64_t encroached_subsegments = 0;
   int64_t restricted_facets_off_boundary = 0;
+  // When a limit stops the refinement: the cells with label > 0 at that moment, for inspection.
+  TetMesh partial;
 };
 
 // Meshes the composite domain of `oracle` by Rule Set T with the polylines of `features` as
 // constrained segments (empty = the featureless approach). Every constrained subsegment is an
 // edge of the result (listed in feature_edges with its curve id). Vertices inserted on the
 // boundary are exact oracle crossings; vertices on segments lie on the segment chords (the
-// pipeline puts them on the curves). Throws LimitError (vertex or time limit), Cancelled.
+// pipeline puts them on the curves). Throws LimitError (vertex or time limit; the mesh so far
+// is left in statistics->partial), Cancelled.
 TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& features,
                          const RuleSetTOptions& options, const RunControl& control,
                          RuleSetTStatistics* statistics = nullptr);
