@@ -182,8 +182,16 @@ TEST(ThesisEngine, SameJobSameMeshAndFiguresAgainstMesh3) {
             << again.mesh.points.size() << " vertices, " << thesisSeconds << " s (min dihedral "
             << again.report["quality"]["min_dihedral_deg"] << "); cgal (no optimizers) " << cgal.mesh.tets.size()
             << " tets, " << cgal.mesh.points.size() << " vertices, " << cgalSeconds << " s (min dihedral "
-            << cgal.report["quality"]["min_dihedral_deg"] << ")\n";
+            << cgal.report["quality"]["min_dihedral_deg"] << "); engine alone: thesis " << again.report["seconds"]["thesis"]
+            << " s, Mesh_3 " << cgal.report["seconds"]["mesh3"] << " s\n";
   std::cout << "[figures] thesis rules: " << again.report["thesis"]["rule_insertions"].dump() << "\n";
+  json featureless = test::demoAssemblyJob(1, "thesis");
+  featureless["features"] = false;
+  const JobResult plain = runJob(JobSpec::fromJson(featureless, ""), RunControl());
+  EXPECT_EQ(plain.report["thesis"]["star_vertices"], 0);
+  EXPECT_TRUE(plain.mesh.feature_edges.empty());
+  std::cout << "[figures] thesis featureless: " << plain.mesh.tets.size() << " tets, " << plain.mesh.points.size()
+            << " vertices, " << plain.report["seconds"]["thesis"] << " s in the engine\n";
 }
 
 TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {
