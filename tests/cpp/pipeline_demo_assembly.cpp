@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "job/Pipeline.h"
+#include "demo_assembly_job.h"
 #include "mesh_checks.h"
 #include "occt_checks.h"
 #include "occt_reference.h"
@@ -36,18 +37,7 @@ using test::DemoAssembly;
 using test::brepText;
 using test::volumeOf;
 
-nlohmann::json demoJob(int order) {
-  const DemoAssembly a;
-  return {{"inputs",
-           {{{"name", "Pin"}, {"brep", brepText(a.pin)}, {"material", 1}},
-            {{"name", "CutCorner"}, {"brep", brepText(a.cut)}, {"role", "cut"}},
-            {{"name", "Plate"}, {"brep", brepText(a.plate)}, {"material", 2}}}},
-          {"criteria",
-           {{"default", {{"cell_size", 5}, {"facet_size", 4}, {"facet_distance", 0.2}, {"edge_size", 2}}},
-            {"materials", {{"1", {{"cell_size", 3}, {"facet_size", 2}, {"facet_distance", 0.05}}}}}}},
-          {"element_order", order},
-          {"seed", 0}};
-}
+nlohmann::json demoJob(int order) { return test::demoAssemblyJob(order); }
 
 // Meshing takes seconds: each order is meshed once and shared by the tests below.
 const JobResult& demoResult(int order) {

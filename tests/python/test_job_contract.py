@@ -40,9 +40,11 @@ def tet10_volume(points, tets):
     return tet10_volumes(points, tets).sum()
 
 
-def test_sphere_tet10_volume_and_nodes_on_surface():
+@pytest.mark.parametrize("engine", ["cgal", "thesis"])
+def test_sphere_tet10_volume_and_nodes_on_surface(engine):
     r = 10.0
-    result = oraclemesh.run(sphere_job(r))
+    result = oraclemesh.run(sphere_job(r, engine=engine))
+    assert result.report["engine"] == engine
     assert result.tets.shape[1] == 10
     assert set(np.unique(result.tet_materials)) == {1}
     exact = 4.0 / 3.0 * math.pi * r ** 3
@@ -82,6 +84,9 @@ BAD_JOBS = [
     (sphere_job(criteria={"default": {"cell_size": float("nan")}}), "criteria.default.cell_size"),
     (sphere_job(criteria={"default": {"cell_size": -1}}), "positive"),
     (sphere_job(criteria={"default": {"cell_size": 1e-4}}), "max_vertices"),
+    (sphere_job(engine="delaunay"), "engine must be 'cgal' (Mesh_3) or 'thesis'"),
+    (sphere_job(material_assignment="barycenter"), "engine 'thesis'"),
+    (sphere_job(engine="thesis", initial_points=[[0, 0]]), "initial_points[0]"),
 ]
 
 

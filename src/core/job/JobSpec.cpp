@@ -237,6 +237,17 @@ JobSpec JobSpec::fromJsonText(const std::string& text, const std::string& baseDi
   return fromJson(job, baseDirectory);
 }
 
+static Point3 parsePoint(const json& p, const std::string& where) {
+  Point3 q{};
+  bool ok = p.is_array() && p.size() == 3;
+  for (int c = 0; ok && c < 3; ++c) {
+    ok = p[c].is_number() && std::isfinite(p[c].get<double>());
+    if (ok) q[c] = p[c].get<double>();
+  }
+  if (!ok) throw InputError(where + " = " + p.dump() + " is not [x, y, z] with finite numbers");
+  return q;
+}
+
 // features.polylines: [[[x, y, z], [x, y, z], ...], ...] or [{"points": [...]}, ...].
 static std::vector<std::vector<Point3>> parsePolylines(const json& value) {
   const std::string usage =
@@ -252,13 +263,7 @@ static std::vector<std::vector<Point3>> parsePolylines(const json& value) {
     std::vector<Point3> points;
     for (size_t k = 0; k < item.size(); ++k) {
       const json& p = item[k];
-      Point3 q{};
-      bool ok = p.is_array() && p.size() == 3;
-      for (int c = 0; ok && c < 3; ++c) {
-        ok = p[c].is_number() && std::isfinite(p[c].get<double>());
-        if (ok) q[c] = p[c].get<double>();
-      }
-      if (!ok) throw InputError(where + " point " + std::to_string(k) + " = " + p.dump() + " is not [x, y, z] with finite numbers");
+      const Point3 q = parsePoint(p, where + " point " + std::to_string(k));
       if (!points.empty() && q == points.back())
         throw InputError(where + " repeats point " + std::to_string(k) + " " + p.dump() + ": remove the duplicate");
       points.push_back(q);
@@ -317,14 +322,27 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
 
   if (job.contains("engine")) {
     spec.engine = job["engine"].is_string() ? job["engine"].get<std::string>() : "";
-    if (spec.engine == "thesis")
-      throw InputError("engine 'thesis' (Rule Set T) is not available in this version: use engine 'cgal'");
-    if (spec.engine != "cgal") throw InputError("engine must be 'cgal' (got " + job["engine"].dump() + ")");
+    if (spec.engine != "cgal" && spec.engine != "thesis")
+      throw InputError("engine must be 'cgal' (Mesh_3) or 'thesis' (Rule Set T), got " + job["engine"].dump());
   }
-  if (job.contains("material_assignment") && job["material_assignment"] != "circumcenter")
-    throw InputError("material_assignment: the 'cgal' engine assigns materials by circumcentre only: use \"circumcenter\"");
-  if (job.contains("initial_points") && !job["initial_points"].empty())
-    throw InputError("initial_points are not supported by the 'cgal' engine: remove them from the job");
+  if (job.contains("material_assignment")) {
+    const json& m = job["material_assignment"];
+    if (m != "circumcenter" && m != "barycenter")
+      throw InputError("material_assignment must be \"circumcenter\" or \"barycenter\", got " + m.dump());
+    spec.material_assignment = m.get<std::string>();
+    if (spec.engine != "thesis" && spec.material_assignment != "circumcenter")
+      throw InputError("material_assignment: the 'cgal' engine assigns materials by circumcentre only: use "
+                       "\"circumcenter\" or engine 'thesis'");
+  }
+  if (job.contains("initial_points") && !job["initial_points"].empty()) {
+    if (spec.engine != "thesis")
+      throw InputError("initial_points are not supported by the 'cgal' engine: remove them or use engine 'thesis'");
+    const json& list = job["initial_points"];
+    if (!list.is_array()) throw InputError("initial_points must be a list of [x, y, z] points in model units");
+    for (size_t k = 0; k < list.size(); ++k) {
+      spec.initial_points.push_back(parsePoint(list[k], "initial_points[" + std::to_string(k) + "]"));
+    }
+  }
 
   if (job.contains("element_order")) {
     const json& o = job["element_order"];

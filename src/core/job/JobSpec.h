@@ -56,7 +56,11 @@ struct JobSpec {
   // features.polylines: the user's own constrained segments (e.g. load-patch outlines drawn
   // on a face, a crack front). Each has at least two distinct consecutive points.
   std::vector<std::vector<Point3>> user_polylines;
-  std::string engine = "cgal";
+  std::string engine = "cgal";  // "cgal" (Mesh_3) or "thesis" (Rule Set T)
+  // Thesis engine only: which point of a cell decides its material ("circumcenter", Pons
+  // 2007, or "barycenter", thesis §4.1), and points inserted before refinement.
+  std::string material_assignment = "circumcenter";
+  std::vector<Point3> initial_points;
   int element_order = 2;
   bool perturb = true;
   bool exude = true;

@@ -27,6 +27,7 @@
 #include "mesh/SecondOrder.h"
 #include "mesh/Topology.h"
 #include "mesh/Writers.h"
+#include "refine/ThesisEngine.h"
 
 #include <TopExp_Explorer.hxx>
 
@@ -361,6 +362,25 @@ SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
   return r;
 }
 
+// A refinement stopped by a limit leaves its mesh so far next to each output file
+// (mesh.vtu -> mesh.partial.vtu) for inspection; returns what to add to the error message.
+std::string writePartialMesh(const JobSpec& job, TetMesh& partial) {
+  if (partial.tets.empty() || job.output_files.empty()) return "";
+  partial.boundary = extractBoundary(partial);
+  std::string written;
+  for (const std::string& file : job.output_files) {
+    std::filesystem::path path(file);
+    path.replace_extension(".partial" + path.extension().string());
+    try {
+      writeMeshFile(path.string(), partial);
+      written += (written.empty() ? "" : ", ") + path.string();
+    } catch (const Error&) {
+      // The limit is the error to report; an unwritable partial mesh only goes unmentioned.
+    }
+  }
+  return written.empty() ? "" : " (the mesh so far, " + std::to_string(partial.tets.size()) + " tets, is in " + written + ")";
+}
+
 json qualityJson(const QualityReport& q) {
   json j;
   j["min_dihedral_deg"] = q.min_dihedral;
@@ -429,19 +449,71 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("features");
   control.checkpoint();
 
-  Mesh3Options options;
-  options.criteria = criteria;
-  options.perturb = job.perturb;
-  options.exude = job.exude;
-  options.optimize_time_limit = job.optimize_time_limit;
-  options.sliver_bound = job.sliver_bound;
-  options.max_vertices = job.max_vertices;
-  options.seed = job.seed;
-  Mesh3Statistics stats;
   JobResult result;
-  result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
-  clock.finish("mesh3");  // the engine's total; its phases are reported beside it
-  for (const auto& [phase, s] : stats.seconds) clock.seconds["mesh3_" + phase] = s;
+  json engineReport;
+  int64_t seedsOnBoundary = 0, protectingBalls = 0;
+  if (job.engine == "thesis") {
+    RuleSetTOptions options;
+    options.criteria = criteria;
+    options.assignment =
+        job.material_assignment == "barycenter" ? MaterialAssignment::Barycenter : MaterialAssignment::Circumcenter;
+    options.initial_points = job.initial_points;
+    options.max_vertices = job.max_vertices;
+    options.seed = job.seed;
+    // Where the terminator rule may leave cells: curves along small dihedral angles, and the
+    // points where curves meet at small angles or cones end.
+    for (const SmallInputAngle& a : smallAngles) {
+      if (a.kind != "dihedral") {
+        options.small_angle_points.push_back(a.location);
+        continue;
+      }
+      for (const FeaturePolyline& pl : features.polylines)
+        if (pl.edge == a.edge && pl.source >= 0 && oracle.entries()[pl.source].source->name() == a.input)
+          options.small_angle_curves.push_back(pl.curve);
+    }
+    RuleSetTStatistics stats;
+    try {
+      result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
+    } catch (const LimitError& e) {
+      throw LimitError(e.what() + writePartialMesh(job, stats.partial));
+    }
+    clock.finish("thesis");  // the engine's total; its phases are reported beside it
+    for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
+    seedsOnBoundary = stats.initial_points;
+    json left = json::array();
+    for (const LeftElement& e : stats.left)
+      left.push_back({{"kind", e.kind}, {"reason", e.reason}, {"location", e.location}, {"material", e.material},
+                      {"value", e.value}});
+    engineReport = {{"rule_insertions", stats.insertions},
+                    {"star_vertices", stats.star_vertices},
+                    {"constrained_subsegments", stats.constrained_subsegments},
+                    {"final_check",
+                     {{"subsegments_not_edges", stats.subsegments_not_edges},
+                      {"encroached_subsegments", stats.encroached_subsegments},
+                      {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
+                    {"elements_left", left}};
+    if (!stats.left.empty())
+      warnings.push_back(std::to_string(stats.insertions["left_elements"]) +
+                         " element(s) still violate their criteria (see report.thesis.elements_left for where and "
+                         "why; small input angles are the usual cause)");
+  } else {
+    Mesh3Options options;
+    options.criteria = criteria;
+    options.perturb = job.perturb;
+    options.exude = job.exude;
+    options.optimize_time_limit = job.optimize_time_limit;
+    options.sliver_bound = job.sliver_bound;
+    options.max_vertices = job.max_vertices;
+    options.seed = job.seed;
+    Mesh3Statistics stats;
+    result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
+    clock.finish("mesh3");  // the engine's total; its phases are reported beside it
+    for (const auto& [phase, sec] : stats.seconds) clock.seconds["mesh3_" + phase] = sec;
+    seedsOnBoundary = stats.initial_points;
+    protectingBalls = stats.protecting_balls;
+    engineReport = {{"cell_radius_edge_ratio_applied", stats.radius_edge_ratio_used},
+                    {"facet_angle_applied", stats.facet_angle_used}};
+  }
   TetMesh& mesh = result.mesh;
 
   control.report("snap", 0);
@@ -512,21 +584,26 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                           {"ok", conformity.ok()}};
   json crit = {{"default", criteriaJson(criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
-  crit["cell_radius_edge_ratio_applied"] = stats.radius_edge_ratio_used;
-  crit["facet_angle_applied"] = stats.facet_angle_used;
+  if (job.engine == "cgal") {
+    crit["cell_radius_edge_ratio_applied"] = engineReport["cell_radius_edge_ratio_applied"];
+    crit["facet_angle_applied"] = engineReport["facet_angle_applied"];
+  } else {
+    report["thesis"] = engineReport;
+    report["material_assignment"] = job.material_assignment;
+  }
   report["criteria"] = crit;
   report["features"] = {{"enabled", job.features},
                         {"sharp_angle_deg", job.sharp_angle_deg},
                         {"junctions", job.junctions},
                         {"polylines", features.polylines.size()},
-                        {"protecting_ball_vertices", stats.protecting_balls}};
+                        {"protecting_ball_vertices", protectingBalls}};
   json angles = json::array();
   for (const SmallInputAngle& a : smallAngles)
     angles.push_back({{"kind", a.kind}, {"angle_deg", a.angle_deg}, {"location", a.location},
                       {"input", a.input}, {"edge", a.edge}});
   report["small_input_angles"] = angles;
   report["small_input_angle_limit_deg"] = kSmallAngleLimitDeg;
-  report["seeds_on_boundary"] = stats.initial_points;
+  report["seeds_on_boundary"] = seedsOnBoundary;
   report["boundary_snap"] = {{"max_move", snap.max_move},
                              {"max_move_relative", diagonal > 0 ? snap.max_move / diagonal : 0},
                              {"vertices_moved", snap.moved},

@@ -1,0 +1,969 @@
+// Rule Set T (thesis §3.3) on a CGAL Delaunay triangulation. This is the one translation unit
+// that instantiates the refiner's triangulation: keep the CGAL types in here.
+//
+// Rule names follow the thesis:
+//   T1   a constrained subsegment is bad: next to a star vertex and longer than l_min,i / 3
+//        (T1.1: split at l_min,i / 3 from the star vertex), longer than another subsegment at
+//        the same star vertex (concentric shell split, see below), or encroached (T1.2:
+//        midpoint);
+//   T2   a restricted facet is bad (a vertex not on the boundary, surface Delaunay ball too
+//        big for facet_size / facet_distance / facet_angle): T2.1 its ball centre encroaches
+//        a subsegment -> split that subsegment, T2.2 else insert the ball centre;
+//   T3   a cell with label > 0 is bad (circumradius > cell_size or radius-edge ratio > bound):
+//        T3.1 circumcentre encroaches a subsegment -> split it; T3.2 circumcentre in a surface
+//        Delaunay ball whose centre encroaches a subsegment -> split it; T3.3 circumcentre in
+//        a surface Delaunay ball -> insert that ball's centre; T3.4 insert the circumcentre.
+// Beyond the thesis (which terminates only for input angles of 60 degrees and more):
+//   - concentric shells (Shewchuk 1998): a subsegment at a star vertex that is longer than
+//     the shortest one there is split at that shortest length from the star vertex, so all
+//     splits around a star vertex happen on spheres of radius l_min,i / 3 / 2^k;
+//   - terminator: a cell that fails only the radius-edge bound and whose circumcentre would
+//     split a subsegment near a small input angle is left, and no point closer than the
+//     terminator length to an existing vertex is inserted; every element left is listed.
+#include "refine/ThesisEngine.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <queue>
+#include <random>
+#include <sstream>
+#include <unordered_map>
+
+#include "Error.h"
+#include "features/RuleSetQ.h"
+
+namespace oraclemesh {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using CgalPoint = K::Point_3;
+
+struct VertexInfo {
+  int64_t id = -1;
+  int dimension = 3;  // 0 star/feature end, 1 on a constrained segment, 2 on the boundary, 3 interior
+  int curve = -1;     // feature curve id of a dimension-1 vertex
+  bool far = false;   // one of the bounding corners that keep every point inside the hull
+};
+
+// What the dual Voronoi edge of a facet says about the boundary. Kept on both cells of the
+// facet and recomputed whenever one of them is new.
+struct FacetData {
+  bool known = false;
+  bool restricted = false;
+  Point3 centre{};  // surface Delaunay ball centre: where the dual edge crosses the boundary
+  int labelA = 0, labelB = 0;
+};
+
+struct CellInfo {
+  uint64_t stamp = 0;  // 0 = not evaluated; unique per evaluation (stale queue entries)
+  int label = 0;       // material by the job's assignment rule
+  int centreLabel = 0; // label at the circumcentre (decides restricted facets)
+  Point3 circumcentre{};
+  double radius = 0;
+  std::array<FacetData, 4> facets;
+};
+
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<VertexInfo, K>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellInfo, K>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+// Compact location: every insertion of the refiner starts from the element it refines, which
+// is next to the new point, so a hierarchy would not speed up locate, and insert_in_hole does
+// not maintain one.
+using Delaunay = CGAL::Delaunay_triangulation_3<K, Tds>;
+using VH = Delaunay::Vertex_handle;
+using CH = Delaunay::Cell_handle;
+using Facet = Delaunay::Facet;
+
+Point3 toPoint3(const CgalPoint& p) { return {p.x(), p.y(), p.z()}; }
+CgalPoint toCgal(const Point3& p) { return CgalPoint(p[0], p[1], p[2]); }
+
+// 6 V / l_min^3 of a cell below which it counts as flat (a regular tetrahedron has 0.71).
+constexpr double kFlatCell = 1e-4;
+
+uint64_t pairKey(int64_t a, int64_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(a) << 32) | static_cast<uint64_t>(b);
+}
+
+struct Subsegment {
+  VH a, b;
+  int curve = -1;
+  bool alive = true;
+};
+
+struct Star {
+  VH vertex;
+  double lmin = 0;        // l_min,i: shortest incident input segment
+  bool smallAngle = false;
+};
+
+struct QueueEntry {
+  double priority = 0;
+  uint64_t stamp = 0;  // for cells / facets: the cell's stamp; for segments: its index
+  CH cell;
+  int facet = -1;
+  bool operator<(const QueueEntry& o) const {
+    // Worst first; ties by stamp (insertion order) keep the run deterministic.
+    return priority != o.priority ? priority < o.priority : stamp > o.stamp;
+  }
+};
+
+// The result of looking at the conflict zone of a point before inserting it.
+struct Zone {
+  CgalPoint point;
+  std::vector<CH> cells;
+  Facet boundaryFacet;
+  std::vector<int> segments;  // alive subsegments that are edges of conflict cells
+  int encroached = -1;        // a subsegment whose diametral ball contains the point
+  double insertionRadius = 0; // distance to the nearest existing vertex
+  bool duplicate = false;
+};
+
+class RuleSetTRefiner {
+ public:
+  RuleSetTRefiner(const HierarchicalOracle& oracle, const FeatureGraph& features, const RuleSetTOptions& options,
+                  const RunControl& control, RuleSetTStatistics& stats)
+      : oracle_(oracle), features_(features), options_(options), control_(control), stats_(stats) {
+    const double diag = oracle.diagonal();
+    reach_ = 4 * diag;
+    double smallest = std::numeric_limits<double>::infinity();
+    auto consider = [&](const MaterialCriteria& c) {
+      for (double v : {c.cell_size, c.facet_size, c.edge_size})
+        if (v > 0) smallest = std::min(smallest, v);
+    };
+    consider(options.criteria.defaults);
+    for (const auto& [m, c] : options.criteria.per_material) consider(c);
+    if (!std::isfinite(smallest)) smallest = diag / 15;
+    // Below this no point goes in (terminator): 1/32 of the finest size asked for.
+    terminatorLength_ = smallest / 32;
+  }
+
+  TetMesh run() {
+    auto t0 = std::chrono::steady_clock::now();
+    auto phase = [&](const std::string& name) {
+      const auto now = std::chrono::steady_clock::now();
+      stats_.seconds[name] += std::chrono::duration<double>(now - t0).count();
+      t0 = now;
+    };
+    try {
+      control_.report("initial points", 0);
+      insertInitialPoints();
+      phase("initial_points");
+      control_.report("refine", 0);
+      refine();
+    } catch (const LimitError&) {
+      stats_.partial = extract();
+      throw;
+    }
+    phase("refine");
+    TetMesh mesh = extract();
+    listLeftElements();
+    phase("extract");
+    finalCheck();
+    return mesh;
+  }
+
+ private:
+  // ---------------------------------------------------------------- vertices and segments
+  void setInfo(VH v, int dimension, int curve, bool far = false) {
+    v->info().id = nextVertexId_++;
+    v->info().dimension = dimension;
+    v->info().curve = curve;
+    v->info().far = far;
+    segmentsAt_.emplace_back();
+  }
+
+  double length(const Subsegment& s) const { return std::sqrt(CGAL::squared_distance(s.a->point(), s.b->point())); }
+
+  void addSegment(VH a, VH b, int curve) {
+    if (a == b) return;
+    const uint64_t key = pairKey(a->info().id, b->info().id);
+    if (segmentOf_.count(key)) return;  // two polylines sharing a piece: one constraint
+    const int index = static_cast<int>(segments_.size());
+    segments_.push_back({a, b, curve, true});
+    segmentOf_[key] = index;
+    segmentsAt_[a->info().id].push_back(index);
+    segmentsAt_[b->info().id].push_back(index);
+    pushSegment(index);
+  }
+
+  void removeSegment(int index) {
+    Subsegment& s = segments_[index];
+    s.alive = false;
+    segmentOf_.erase(pairKey(s.a->info().id, s.b->info().id));
+    for (VH v : {s.a, s.b}) {
+      auto& list = segmentsAt_[v->info().id];
+      list.erase(std::remove(list.begin(), list.end(), index), list.end());
+    }
+  }
+
+  bool strictlyInDiametralBall(const CgalPoint& p, const Subsegment& s) const {
+    const CgalPoint m = CGAL::midpoint(s.a->point(), s.b->point());
+    const double r2 = 0.25 * CGAL::squared_distance(s.a->point(), s.b->point());
+    // Points on the sphere (shell splits of neighbouring segments) do not encroach.
+    return CGAL::squared_distance(p, m) < r2 * (1 - 1e-9);
+  }
+
+  // Encroached = some vertex strictly inside the diametral ball. A subsegment that is not a
+  // Delaunay edge is encroached (Gabriel edges are Delaunay edges); one that is has an
+  // encroaching vertex among the vertices of its incident cells if any.
+  bool encroached(const Subsegment& s) const {
+    CH c;
+    int i, j;
+    if (!dt_.is_edge(s.a, s.b, c, i, j)) return true;
+    auto circ = dt_.incident_cells(c, i, j), done = circ;
+    do {
+      for (int k = 0; k < 4; ++k) {
+        VH v = circ->vertex(k);
+        if (v == s.a || v == s.b || dt_.is_infinite(v)) continue;
+        if (strictlyInDiametralBall(v->point(), s)) return true;
+      }
+    } while (++circ != done);
+    return false;
+  }
+
+  int starAt(VH v) const {
+    auto it = starOfVertex_.find(v->info().id);
+    return it == starOfVertex_.end() ? -1 : it->second;
+  }
+
+  double shortestAtStar(int star) const {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int s : segmentsAt_[stars_[star].vertex->info().id]) shortest = std::min(shortest, length(segments_[s]));
+    return shortest;
+  }
+
+  // T1: where a bad subsegment is split, and under which rule; nullopt-like (rule empty)
+  // when the subsegment is good.
+  struct SegmentSplit {
+    std::string rule;
+    Point3 point{};
+  };
+  SegmentSplit badSegmentSplit(int index, bool assumeEncroached) const {
+    const Subsegment& s = segments_[index];
+    const double len = length(s);
+    const Point3 a = toPoint3(s.a->point()), b = toPoint3(s.b->point());
+    for (int end = 0; end < 2; ++end) {
+      const int star = starAt(end == 0 ? s.a : s.b);
+      if (star < 0) continue;
+      const Point3 from = end == 0 ? a : b, to = end == 0 ? b : a;
+      const double third = stars_[star].lmin / 3;
+      if (len > third * (1 + 1e-9)) return {"T1.1", from + (third / len) * (to - from)};
+      const double shortest = shortestAtStar(star);
+      if (len > shortest * (1 + 1e-9)) return {"T1.2 shell", from + (shortest / len) * (to - from)};
+    }
+    if (assumeEncroached || encroached(s)) return {"T1.2", 0.5 * (a + b)};
+    return {};
+  }
+
+  void pushSegment(int index) {
+    if (!segments_[index].alive) return;
+    segmentQueue_.push({length(segments_[index]), static_cast<uint64_t>(index), CH(), -1});
+  }
+
+  // ------------------------------------------------------------------ cells and facets
+  int labelOf(const Point3& p) const { return oracle_.label(p); }
+
+  void evaluateCell(CH c) {
+    CellInfo& info = c->info();
+    info.stamp = ++stampCounter_;
+    for (FacetData& f : info.facets) f.known = false;
+    if (dt_.is_infinite(c)) {
+      info.label = info.centreLabel = 0;
+      return;
+    }
+    const CgalPoint cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(), c->vertex(2)->point(),
+                                            c->vertex(3)->point());
+    info.circumcentre = toPoint3(cc);
+    info.radius = std::sqrt(CGAL::squared_distance(cc, c->vertex(0)->point()));
+    info.centreLabel = labelOf(info.circumcentre);
+    if (options_.assignment == MaterialAssignment::Circumcenter) {
+      info.label = info.centreLabel;
+    } else {
+      Point3 bary{0, 0, 0};
+      for (int k = 0; k < 4; ++k) bary = bary + 0.25 * toPoint3(c->vertex(k)->point());
+      info.label = labelOf(bary);
+    }
+  }
+
+  // The dual Voronoi edge of facet (c, i): circumcentre to circumcentre, or a ray from the
+  // finite cell's circumcentre through the facet's outside, clipped far outside the domain.
+  void dualOf(CH c, int i, Point3& from, Point3& to, int& labelFrom, int& labelTo) const {
+    CH n = c->neighbor(i);
+    CH finite = dt_.is_infinite(c) ? n : c;
+    CH other = finite == c ? n : c;
+    from = finite->info().circumcentre;
+    labelFrom = finite->info().centreLabel;
+    if (!dt_.is_infinite(other)) {
+      to = other->info().circumcentre;
+      labelTo = other->info().centreLabel;
+      return;
+    }
+    const int fi = finite == c ? i : n->index(c);
+    const CgalPoint& p0 = finite->vertex((fi + 1) & 3)->point();
+    const CgalPoint& p1 = finite->vertex((fi + 2) & 3)->point();
+    const CgalPoint& p2 = finite->vertex((fi + 3) & 3)->point();
+    K::Vector_3 normal = CGAL::cross_product(p1 - p0, p2 - p0);
+    if (CGAL::scalar_product(normal, finite->vertex(fi)->point() - p0) > 0) normal = -normal;
+    const double len = std::sqrt(normal.squared_length());
+    const Point3 direction = len > 0 ? Point3{normal.x() / len, normal.y() / len, normal.z() / len} : Point3{0, 0, 0};
+    const Point3 middle = 0.5 * (oracle_.bbox().min + oracle_.bbox().max);
+    to = from + (reach_ + distance(from, middle)) * direction;
+    labelTo = 0;  // beyond every input
+  }
+
+  void evaluateFacet(CH c, int i) {
+    CH n = c->neighbor(i);
+    const int j = n->index(c);
+    FacetData data;
+    data.known = true;
+    if (!(dt_.is_infinite(c) && dt_.is_infinite(n))) {
+      Point3 from, to;
+      int labelFrom, labelTo;
+      dualOf(c, i, from, to, labelFrom, labelTo);
+      // Like Mesh_3's labeled domain, a dual edge whose ends have the same label is taken
+      // as not crossing (it would have to cross twice within one Voronoi edge).
+      if (labelFrom != labelTo && distance(from, to) > 0) {
+        std::vector<CompositeCrossing> crossings;
+        try {
+          crossings = oracle_.crossings(from, to);
+        } catch (const Error&) {
+          crossings.clear();
+        }
+        // Several crossings: the ball of the farthest one is the one to meet the criteria.
+        const CgalPoint& corner = c->vertex((i + 1) & 3)->point();
+        double best = -1;
+        for (const CompositeCrossing& x : crossings) {
+          const double r2 = CGAL::squared_distance(toCgal(x.point), corner);
+          if (r2 > best) {
+            best = r2;
+            data.restricted = true;
+            data.centre = x.point;
+            data.labelA = x.labelBefore;
+            data.labelB = x.labelAfter;
+          }
+        }
+      }
+    }
+    c->info().facets[i] = data;
+    n->info().facets[j] = data;
+    if (data.restricted) {
+      const double priority = facetBadness(c, i);
+      if (priority > 0) facetQueue_.push({priority, c->info().stamp, c, i});
+    }
+  }
+
+  // Smallest positive-material bound on either side of a restricted facet.
+  double facetBound(const FacetData& f, double MaterialCriteria::*field) const {
+    double bound = std::numeric_limits<double>::infinity();
+    for (int m : {f.labelA, f.labelB})
+      if (m > 0) bound = std::min(bound, options_.criteria.of(m).*field);
+    return bound;
+  }
+
+  // How far a restricted facet is beyond its criteria (> 1: bad); 0 when good.
+  double facetBadness(CH c, int i, std::string* reason = nullptr) const {
+    const FacetData& f = c->info().facets[i];
+    if (!f.restricted) return 0;
+    std::array<VH, 3> v{c->vertex((i + 1) & 3), c->vertex((i + 2) & 3), c->vertex((i + 3) & 3)};
+    for (VH w : v)
+      if (dt_.is_infinite(w) || w->info().dimension == 3) {
+        if (reason) *reason = "a vertex not on the boundary";
+        return 1e6;
+      }
+    const CgalPoint centre = toCgal(f.centre);
+    const double r = std::sqrt(CGAL::squared_distance(centre, v[0]->point()));
+    double worst = 0;
+    const double size = facetBound(f, &MaterialCriteria::facet_size);
+    if (size > 0 && r > size) {
+      worst = r / size;
+      if (reason) *reason = "surface Delaunay ball radius above facet_size";
+    }
+    const double dist = facetBound(f, &MaterialCriteria::facet_distance);
+    if (dist > 0) {
+      const CgalPoint fc = CGAL::circumcenter(v[0]->point(), v[1]->point(), v[2]->point());
+      const double d = std::sqrt(CGAL::squared_distance(fc, centre));
+      if (d > dist && d / dist > worst) {
+        worst = d / dist;
+        if (reason) *reason = "facet distance above facet_distance";
+      }
+    }
+    // Mesh_3 caps the facet angle bound at 30 degrees, where surface refinement still terminates.
+    double angleBound = std::numeric_limits<double>::infinity();
+    for (int m : {f.labelA, f.labelB})
+      if (m > 0) angleBound = std::min(angleBound, options_.criteria.of(m).facet_angle);
+    angleBound = std::min(angleBound, 30.0);
+    if (angleBound > 0 && std::isfinite(angleBound)) {
+      double minAngle = 180;
+      for (int k = 0; k < 3; ++k) {
+        const K::Vector_3 e1 = v[(k + 1) % 3]->point() - v[k]->point();
+        const K::Vector_3 e2 = v[(k + 2) % 3]->point() - v[k]->point();
+        const double cosine = CGAL::scalar_product(e1, e2) / std::sqrt(e1.squared_length() * e2.squared_length());
+        minAngle = std::min(minAngle, std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / M_PI);
+      }
+      if (minAngle < angleBound && angleBound / std::max(minAngle, 1e-9) > worst) {
+        worst = angleBound / std::max(minAngle, 1e-9);
+        if (reason) *reason = "facet angle below facet_angle";
+      }
+    }
+    return worst > 1 ? worst : 0;
+  }
+
+  double shortestEdge(CH c) const {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        shortest = std::min(shortest, CGAL::squared_distance(c->vertex(a)->point(), c->vertex(b)->point()));
+    return std::sqrt(shortest);
+  }
+
+  // How far a cell is beyond its material's criteria (> 1: bad); 0 when good or outside.
+  double cellBadness(CH c, bool* sizeFails = nullptr, std::string* reason = nullptr) const {
+    if (dt_.is_infinite(c) || c->info().label <= 0) return 0;
+    const MaterialCriteria& crit = options_.criteria.of(c->info().label);
+    const double r = c->info().radius;
+    double worst = 0;
+    if (sizeFails) *sizeFails = false;
+    if (crit.cell_size > 0 && r > crit.cell_size) {
+      worst = r / crit.cell_size;
+      if (sizeFails) *sizeFails = true;
+      if (reason) *reason = "circumradius above cell_size";
+    }
+    const double shortest = shortestEdge(c);
+    // Beyond the thesis: a cell whose four corners are (all but) coplanar, as boundary points
+    // placed symmetrically on two faces of a concave edge make them, has a fine radius-edge
+    // ratio but no volume, and no vertex move after refinement can open it. Its circumcentre
+    // goes in like any bad cell's (with the same redirections).
+    const double flatness = 6 * std::abs(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
+                                                      c->vertex(2)->point(), c->vertex(3)->point())) /
+                            (shortest * shortest * shortest);
+    if (flatness < kFlatCell) {
+      worst = std::max(worst, 1e3);
+      if (sizeFails) *sizeFails = true;
+      if (reason) *reason = "flat cell (four nearly coplanar corners)";
+    }
+    if (crit.cell_radius_edge_ratio > 0) {
+      const double ratio = r / shortest / crit.cell_radius_edge_ratio;
+      if (ratio > 1 && ratio > worst) {
+        worst = ratio;
+        if (reason) *reason = "radius-edge ratio above cell_radius_edge_ratio";
+      }
+    }
+    return worst > 1 ? worst : 0;
+  }
+
+  // ------------------------------------------------------------------------- insertion
+  Zone examine(const Point3& p, CH hint, int splitting = -1) const {
+    Zone zone;
+    zone.point = toCgal(p);
+    Delaunay::Locate_type lt;
+    int li, lj;
+    const CH located = dt_.locate(zone.point, lt, li, lj, hint);
+    if (lt == Delaunay::VERTEX) {
+      zone.duplicate = true;
+      return zone;
+    }
+    std::vector<Facet> boundary;
+    dt_.find_conflicts(zone.point, located, std::back_inserter(boundary), std::back_inserter(zone.cells));
+    zone.boundaryFacet = boundary.front();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (CH c : zone.cells) {
+      for (int a = 0; a < 4; ++a) {
+        VH va = c->vertex(a);
+        if (dt_.is_infinite(va)) continue;
+        nearest = std::min(nearest, CGAL::squared_distance(zone.point, va->point()));
+        for (int b = a + 1; b < 4; ++b) {
+          VH vb = c->vertex(b);
+          if (dt_.is_infinite(vb)) continue;
+          auto it = segmentOf_.find(pairKey(va->info().id, vb->info().id));
+          if (it == segmentOf_.end()) continue;
+          const int s = it->second;
+          if (std::find(zone.segments.begin(), zone.segments.end(), s) != zone.segments.end()) continue;
+          zone.segments.push_back(s);
+          if (zone.encroached < 0 && s != splitting && strictlyInDiametralBall(zone.point, segments_[s]))
+            zone.encroached = s;
+        }
+      }
+    }
+    zone.insertionRadius = std::sqrt(nearest);
+    return zone;
+  }
+
+  VH commit(const Zone& zone, int dimension, int curve) {
+    // Queue entries of the cells about to be deleted must read as stale.
+    for (CH c : zone.cells) c->info().stamp = 0;
+    VH v = dt_.insert_in_hole(zone.point, zone.cells.begin(), zone.cells.end(), zone.boundaryFacet.first,
+                              zone.boundaryFacet.second);
+    setInfo(v, dimension, curve);
+    if (options_.max_vertices > 0 && static_cast<int64_t>(dt_.number_of_vertices()) > options_.max_vertices)
+      throw LimitError("the thesis engine reached limits.max_vertices = " + std::to_string(options_.max_vertices) +
+                       " vertices during refinement: coarsen cell_size / facet_size / facet_distance or raise the limit");
+    afterInsertion(v);
+    // Subsegments of the zone may have lost their Delaunay edge or be encroached by v.
+    for (int s : zone.segments) pushSegment(s);
+    return v;
+  }
+
+  void afterInsertion(VH v) {
+    std::vector<CH> cells;
+    dt_.incident_cells(v, std::back_inserter(cells));
+    for (CH c : cells) evaluateCell(c);
+    for (CH c : cells) {
+      for (int i = 0; i < 4; ++i)
+        if (!c->info().facets[i].known) evaluateFacet(c, i);
+      const double bad = cellBadness(c);
+      if (bad > 0) cellQueue_.push({bad, c->info().stamp, c, -1});
+    }
+  }
+
+  // Splits subsegment `index` at `point` (a point of its chord).
+  bool splitSegment(int index, const Point3& point, const std::string& rule) {
+    const Subsegment s = segments_[index];
+    Zone zone = examine(point, s.a->cell(), index);
+    if (zone.duplicate) {
+      unsplittable_.push_back(index);
+      return false;
+    }
+    removeSegment(index);
+    VH v = commit(zone, 1, s.curve);
+    addSegment(s.a, v, s.curve);
+    addSegment(v, s.b, s.curve);
+    ++stats_.insertions[rule];
+    return true;
+  }
+
+  // A redirection of T2.1 / T3.1 / T3.2 to subsegment `index`: the T1 rule decides where it
+  // is split (star rules first, else the midpoint).
+  bool splitEncroached(int index, const std::string& rule) {
+    const SegmentSplit split = badSegmentSplit(index, true);
+    return splitSegment(index, split.point, rule);
+  }
+
+  bool nearSmallAngle(const Subsegment& s) const {
+    if (std::find(options_.small_angle_curves.begin(), options_.small_angle_curves.end(), s.curve) !=
+        options_.small_angle_curves.end())
+      return true;
+    const Point3 mid = toPoint3(CGAL::midpoint(s.a->point(), s.b->point()));
+    const double reachOf = 4 * length(s);
+    for (const Point3& p : smallAnglePoints_)
+      if (distance(p, mid) < reachOf) return true;
+    return false;
+  }
+
+  // -------------------------------------------------------------------- initial points
+  VH insertOrFind(const Point3& p, int dimension, int curve, bool far = false) {
+    const CgalPoint q = toCgal(p);
+    if (dt_.dimension() == 3) {
+      VH near = dt_.nearest_vertex(q, lastCell_);
+      if (near != VH() && !dt_.is_infinite(near) &&
+          std::sqrt(CGAL::squared_distance(near->point(), q)) <= oracle_.tolerance() * 10)
+        return near;
+    }
+    const std::size_t before = dt_.number_of_vertices();
+    VH v = dt_.insert(q, lastCell_);
+    lastCell_ = v->cell();
+    if (dt_.number_of_vertices() > before) setInfo(v, dimension, curve, far);
+    return v;
+  }
+
+  void insertInitialPoints() {
+    // Bounding corners first: the triangulation is three-dimensional from the start and every
+    // point the refiner inserts lies inside its hull.
+    const Bbox box = oracle_.bbox();
+    const double margin = oracle_.diagonal();
+    for (int corner = 0; corner < 8; ++corner) {
+      Point3 p;
+      for (int k = 0; k < 3; ++k) p[k] = (corner >> k & 1) ? box.max[k] + margin : box.min[k] - margin;
+      insertOrFind(p, 3, -1, true);
+    }
+    // Feature vertices: polyline ends are corners (dimension 0), inner points lie on curves.
+    for (const FeaturePolyline& pl : features_.polylines) {
+      std::vector<VH> chain;
+      for (size_t k = 0; k < pl.points.size(); ++k) {
+        const bool end = k == 0 || k + 1 == pl.points.size();
+        VH v = insertOrFind(pl.points[k], end ? 0 : 1, end ? -1 : pl.curve);
+        if (end) v->info().dimension = 0, v->info().curve = -1;
+        chain.push_back(v);
+      }
+      for (size_t k = 0; k + 1 < chain.size(); ++k) pendingSegments_.push_back({chain[k], chain[k + 1], pl.curve});
+    }
+    int64_t seeds = static_cast<int64_t>(dt_.number_of_vertices()) - 8;
+    for (const StarVertex& sv : findStarVertices(features_, 10 * oracle_.tolerance())) {
+      Star star;
+      star.vertex = dt_.nearest_vertex(toCgal(sv.point));
+      star.lmin = sv.shortest_incident_length;
+      // Angles between the curves leaving the star vertex (first segments of the polylines).
+      std::vector<Point3> directions;
+      for (const StarVertex::Incident& inc : sv.incident) {
+        const auto& pts = features_.polylines[inc.polyline].points;
+        const Point3 d = inc.at_start ? pts[1] - pts[0] : pts[pts.size() - 2] - pts.back();
+        directions.push_back((1 / std::max(norm(d), 1e-300)) * d);
+      }
+      for (size_t a = 0; a < directions.size(); ++a)
+        for (size_t b = a + 1; b < directions.size(); ++b)
+          if (std::acos(std::clamp(dot(directions[a], directions[b]), -1.0, 1.0)) < M_PI / 3) star.smallAngle = true;
+      starOfVertex_[star.vertex->info().id] = static_cast<int>(stars_.size());
+      if (star.smallAngle) smallAnglePoints_.push_back(sv.point);
+      stars_.push_back(star);
+    }
+    stats_.star_vertices = static_cast<int64_t>(stars_.size());
+    for (const Point3& p : options_.small_angle_points) smallAnglePoints_.push_back(p);
+
+    // The job's initial points (interior points, as the thesis' user-given seeds).
+    for (const Point3& p : options_.initial_points) {
+      if (!oracle_.bbox().contains(p, oracle_.diagonal()))
+        throw InputError("initial_points: the point (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                         std::to_string(p[2]) + ") lies far outside the inputs: remove it or fix its coordinates");
+      insertOrFind(p, 3, -1);
+    }
+    for (const Subsegment& s : pendingSegments_) addSegment(s.a, s.b, s.curve);
+    pendingSegments_.clear();
+
+    // Every cell and facet gets its data once; refinement keeps it current from here on.
+    for (auto c = dt_.all_cells_begin(); c != dt_.all_cells_end(); ++c) evaluateCell(c);
+    for (auto c = dt_.all_cells_begin(); c != dt_.all_cells_end(); ++c) {
+      for (int i = 0; i < 4; ++i)
+        if (!c->info().facets[i].known) evaluateFacet(c, i);
+      const double bad = cellBadness(c);
+      if (bad > 0) cellQueue_.push({bad, c->info().stamp, c, -1});
+    }
+
+    // Points on every face of every input that lies on the composite boundary: exact
+    // crossings of a short probe across the sample, inserted unless they encroach a
+    // subsegment (the boundary there is reached by segment splits instead).
+    // The samples lie on regular grids, and grid points on two faces of an edge are
+    // cospherical: their Delaunay cells are flat, with circumcentres nothing can be computed
+    // from. A seeded shift along the face (a tenth of the spacing) puts them in general position.
+    const double probe = 1e-4 * oracle_.diagonal();
+    std::mt19937 random(options_.seed);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::vector<Point3> samples;
+    for (const OracleEntry& entry : oracle_.entries()) {
+      const double facetSize = entry.role == Role::Material ? options_.criteria.of(entry.material).facet_size
+                                                            : options_.criteria.defaults.facet_size;
+      for (const BoundarySample& s : entry.source->boundarySamples(2 * facetSize)) {
+        Point3 shift{unit(random), unit(random), unit(random)};
+        shift = shift - dot(shift, s.normal) * s.normal;
+        const Point3 at = s.point + (0.1 * facetSize) * shift;
+        auto crossings = oracle_.crossings(at - probe * s.normal, at + probe * s.normal);
+        if (crossings.empty()) crossings = oracle_.crossings(s.point - probe * s.normal, s.point + probe * s.normal);
+        if (!crossings.empty()) samples.push_back(crossings.front().point);
+      }
+    }
+    for (size_t k = samples.size(); k > 1; --k) std::swap(samples[k - 1], samples[random() % k]);
+    for (const Point3& p : samples) {
+      const Zone zone = examine(p, lastCell_);
+      if (zone.duplicate || zone.encroached >= 0 || zone.insertionRadius < terminatorLength_) continue;
+      VH v = commit(zone, 2, -1);
+      lastCell_ = v->cell();
+      ++seeds;
+    }
+    stats_.initial_points = seeds;
+  }
+
+  // ------------------------------------------------------------------------ refinement
+  void leave(const std::string& kind, const std::string& reason, uint64_t stamp, int facet) {
+    leftReasons_[{stamp, facet}] = kind + ": " + reason;
+  }
+
+  // A redirection inserts another point than the element's own, which may leave the element
+  // in place: it goes back into its queue (and is dropped there once it is gone or good).
+  static bool requeue(std::priority_queue<QueueEntry>& queue, const QueueEntry& e) {
+    if (e.cell->info().stamp == e.stamp) queue.push(e);
+    return true;
+  }
+
+  bool refineOneSegment() {
+    while (!segmentQueue_.empty()) {
+      const QueueEntry e = segmentQueue_.top();
+      segmentQueue_.pop();
+      const int index = static_cast<int>(e.stamp);
+      if (!segments_[index].alive) continue;
+      const SegmentSplit split = badSegmentSplit(index, false);
+      if (split.rule.empty()) continue;
+      if (splitSegment(index, split.point, split.rule)) return true;
+    }
+    return false;
+  }
+
+  bool refineOneFacet() {
+    while (!facetQueue_.empty()) {
+      const QueueEntry e = facetQueue_.top();
+      facetQueue_.pop();
+      if (e.cell->info().stamp != e.stamp) continue;  // the cell is gone or re-evaluated
+      if (facetBadness(e.cell, e.facet) <= 0) continue;
+      const Point3 centre = e.cell->info().facets[e.facet].centre;
+      const Zone zone = examine(centre, e.cell);
+      if (zone.duplicate) {
+        leave("facet", "its surface Delaunay ball centre is a vertex already", e.stamp, e.facet);
+        continue;
+      }
+      if (zone.encroached >= 0) {
+        // T2.1: the ball centre encroaches a subsegment: split the subsegment instead.
+        if (length(segments_[zone.encroached]) / 2 < terminatorLength_) {
+          leave("facet", "its ball centre encroaches a subsegment shorter than the terminator length", e.stamp, e.facet);
+          continue;
+        }
+        if (splitEncroached(zone.encroached, "T2.1")) return requeue(facetQueue_, e);
+        leave("facet", "the subsegment its ball centre encroaches cannot be split", e.stamp, e.facet);
+        continue;
+      }
+      if (zone.insertionRadius < terminatorLength_) {
+        leave("facet", "its ball centre is closer than the terminator length to a vertex", e.stamp, e.facet);
+        continue;
+      }
+      commit(zone, 2, -1);  // T2.2
+      ++stats_.insertions["T2.2"];
+      return true;
+    }
+    return false;
+  }
+
+  // The surface Delaunay ball of a restricted facet of the conflict zone that contains p.
+  bool surfaceBallContaining(const Zone& zone, Point3& centre) const {
+    for (CH c : zone.cells)
+      for (int i = 0; i < 4; ++i) {
+        const FacetData& f = c->info().facets[i];
+        if (!f.restricted) continue;
+        const CgalPoint ballCentre = toCgal(f.centre);
+        const double r2 = CGAL::squared_distance(ballCentre, c->vertex((i + 1) & 3)->point());
+        if (CGAL::squared_distance(zone.point, ballCentre) < r2) {
+          centre = f.centre;
+          return true;
+        }
+      }
+    return false;
+  }
+
+  bool refineOneCell() {
+    while (!cellQueue_.empty()) {
+      const QueueEntry e = cellQueue_.top();
+      cellQueue_.pop();
+      if (e.cell->info().stamp != e.stamp) continue;
+      bool sizeFails = false;
+      if (cellBadness(e.cell, &sizeFails) <= 0) continue;
+      const Zone zone = examine(e.cell->info().circumcentre, e.cell);
+      // Terminator: a cell that meets its size but not the radius-edge bound next to a small
+      // input angle cannot be fixed by splitting the subsegments there (each split makes a
+      // new bad cell); and no subsegment is split below the terminator length.
+      auto refuseSplit = [&](int s, const char* rule) {
+        if (!sizeFails && nearSmallAngle(segments_[s])) {
+          leave("cell", std::string(rule) + " would split a subsegment next to an input angle under 60 degrees",
+                e.stamp, -1);
+          return true;
+        }
+        if (length(segments_[s]) / 2 < terminatorLength_) {
+          leave("cell", std::string(rule) + " would split a subsegment below the terminator length", e.stamp, -1);
+          return true;
+        }
+        return false;
+      };
+      if (zone.duplicate) {
+        leave("cell", "its circumcentre is a vertex already", e.stamp, -1);
+        continue;
+      }
+      if (zone.encroached >= 0) {  // T3.1
+        if (refuseSplit(zone.encroached, "T3.1")) continue;
+        if (splitEncroached(zone.encroached, "T3.1")) return requeue(cellQueue_, e);
+        leave("cell", "the subsegment its circumcentre encroaches cannot be split", e.stamp, -1);
+        continue;
+      }
+      Point3 ballCentre;
+      if (surfaceBallContaining(zone, ballCentre)) {
+        const Zone surface = examine(ballCentre, e.cell);
+        if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
+          if (refuseSplit(surface.encroached, "T3.2")) continue;
+          if (splitEncroached(surface.encroached, "T3.2")) return requeue(cellQueue_, e);
+          leave("cell", "the subsegment its surface ball centre encroaches cannot be split", e.stamp, -1);
+          continue;
+        }
+        if (!surface.duplicate && surface.insertionRadius >= terminatorLength_) {  // T3.3
+          commit(surface, 2, -1);
+          ++stats_.insertions["T3.3"];
+          return requeue(cellQueue_, e);
+        }
+        leave("cell", "the surface ball centre it maps to is closer than the terminator length to a vertex", e.stamp,
+              -1);
+        continue;
+      }
+      if (zone.insertionRadius < terminatorLength_) {
+        leave("cell", "its circumcentre is closer than the terminator length to a vertex", e.stamp, -1);
+        continue;
+      }
+      commit(zone, 3, -1);  // T3.4
+      ++stats_.insertions["T3.4"];
+      return true;
+    }
+    return false;
+  }
+
+  void refine() {
+    int64_t steps = 0;
+    const double expected = options_.max_vertices > 0 ? static_cast<double>(options_.max_vertices) / 20 : 1e5;
+    while (true) {
+      if ((++steps & 63) == 0) {
+        control_.checkpoint();
+        if ((steps & 4095) == 0) control_.report("refine", std::min(0.99, dt_.number_of_vertices() / expected));
+      }
+      if (refineOneSegment() || refineOneFacet() || refineOneCell()) continue;
+      // The queues are empty: one sweep makes sure no subsegment is left encroached.
+      bool again = false;
+      for (size_t s = 0; s < segments_.size(); ++s)
+        if (segments_[s].alive && !badSegmentSplit(static_cast<int>(s), false).rule.empty() &&
+            std::find(unsplittable_.begin(), unsplittable_.end(), static_cast<int>(s)) == unsplittable_.end()) {
+          pushSegment(static_cast<int>(s));
+          again = true;
+        }
+      if (!again) break;
+    }
+  }
+
+  // ---------------------------------------------------------------------------- output
+  TetMesh extract() const {
+    TetMesh mesh;
+    std::unordered_map<int64_t, int64_t> index;  // vertex id -> mesh index
+    auto indexOf = [&](VH v) {
+      auto [it, added] = index.emplace(v->info().id, static_cast<int64_t>(mesh.points.size()));
+      if (added) {
+        mesh.points.push_back(toPoint3(v->point()));
+        mesh.vertex_dimension.push_back(v->info().dimension);
+        mesh.vertex_curve.push_back(v->info().dimension == 1 ? v->info().curve : -1);
+      }
+      return it->second;
+    };
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      if (c->info().label <= 0) continue;
+      mesh.tets.push_back({indexOf(c->vertex(0)), indexOf(c->vertex(1)), indexOf(c->vertex(2)), indexOf(c->vertex(3))});
+      mesh.tet_materials.push_back(c->info().label);
+    }
+    for (const Subsegment& s : segments_) {
+      if (!s.alive) continue;
+      auto ia = index.find(s.a->info().id), ib = index.find(s.b->info().id);
+      if (ia == index.end() || ib == index.end()) continue;  // a constraint outside every material
+      mesh.feature_edges.push_back({ia->second, ib->second});
+      mesh.feature_edge_curves.push_back(s.curve);
+    }
+    return mesh;
+  }
+
+  void finalCheck() {
+    stats_.constrained_subsegments = stats_.subsegments_not_edges = stats_.encroached_subsegments = 0;
+    for (const Subsegment& s : segments_) {
+      if (!s.alive) continue;
+      ++stats_.constrained_subsegments;
+      CH c;
+      int i, j;
+      if (!dt_.is_edge(s.a, s.b, c, i, j)) ++stats_.subsegments_not_edges;
+      // The nearest vertex to the midpoint is inside the diametral ball iff any vertex is.
+      const CgalPoint m = CGAL::midpoint(s.a->point(), s.b->point());
+      const VH nearest = dt_.nearest_vertex(m, s.a->cell());
+      if (nearest != s.a && nearest != s.b && strictlyInDiametralBall(nearest->point(), s))
+        ++stats_.encroached_subsegments;
+    }
+    stats_.restricted_facets_off_boundary = 0;
+    for (auto c = dt_.all_cells_begin(); c != dt_.all_cells_end(); ++c)
+      for (int i = 0; i < 4; ++i) {
+        if (c->neighbor(i) < c || !c->info().facets[i].restricted) continue;
+        for (int k = 1; k < 4; ++k) {
+          VH v = c->vertex((i + k) & 3);
+          if (dt_.is_infinite(v) || v->info().dimension == 3) {
+            ++stats_.restricted_facets_off_boundary;
+            break;
+          }
+        }
+      }
+  }
+
+  void listLeftElements() {
+    constexpr size_t kListed = 200;  // the report lists the worst ones; the count is complete
+    std::vector<std::pair<double, LeftElement>> left;
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      std::string reason;
+      const double bad = cellBadness(c, nullptr, &reason);
+      if (bad > 0) {
+        auto it = leftReasons_.find({c->info().stamp, -1});
+        const std::string why = it != leftReasons_.end() ? it->second : "cell: not refined";
+        left.push_back({bad, {"cell", reason + " (" + why + ")", c->info().circumcentre, c->info().label, bad}});
+      }
+    }
+    for (auto c = dt_.all_cells_begin(); c != dt_.all_cells_end(); ++c)
+      for (int i = 0; i < 4; ++i) {
+        CH n = c->neighbor(i);
+        if (n < c) continue;  // each facet once
+        std::string reason;
+        const double bad = facetBadness(c, i, &reason);
+        if (bad <= 0) continue;
+        auto it = leftReasons_.find({c->info().stamp, i});
+        if (it == leftReasons_.end()) it = leftReasons_.find({n->info().stamp, n->index(c)});
+        const std::string why = it != leftReasons_.end() ? it->second : "facet: not refined";
+        const FacetData& f = c->info().facets[i];
+        left.push_back({bad, {"facet", reason + " (" + why + ")", f.centre, std::max(f.labelA, f.labelB), bad}});
+      }
+    std::stable_sort(left.begin(), left.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    stats_.left.clear();
+    for (auto& [bad, element] : left) stats_.left.push_back(std::move(element));
+    stats_.insertions["left_elements"] = static_cast<int64_t>(left.size());
+    if (stats_.left.size() > kListed) stats_.left.resize(kListed);
+  }
+
+  const HierarchicalOracle& oracle_;
+  const FeatureGraph& features_;
+  const RuleSetTOptions& options_;
+  const RunControl& control_;
+  RuleSetTStatistics& stats_;
+
+  Delaunay dt_;
+  CH lastCell_;
+  int64_t nextVertexId_ = 0;
+  uint64_t stampCounter_ = 0;
+  double reach_ = 0;
+  double terminatorLength_ = 0;
+
+  std::vector<Subsegment> segments_;
+  std::vector<Subsegment> pendingSegments_;
+  std::unordered_map<uint64_t, int> segmentOf_;
+  std::vector<std::vector<int>> segmentsAt_;  // by vertex id
+  std::vector<Star> stars_;
+  std::unordered_map<int64_t, int> starOfVertex_;
+  std::vector<Point3> smallAnglePoints_;
+  std::vector<int> unsplittable_;  // split point is a vertex already (left as they are)
+
+  std::priority_queue<QueueEntry> segmentQueue_, facetQueue_, cellQueue_;
+  std::map<std::pair<uint64_t, int>, std::string> leftReasons_;
+};
+
+void validate(const HierarchicalOracle& oracle, const RuleSetTOptions& options) {
+  auto check = [](const MaterialCriteria& c, const std::string& what) {
+    if (!(c.cell_size > 0) || !(c.facet_size > 0) || !(c.facet_distance > 0))
+      throw InputError("criteria " + what + ": the thesis engine needs positive cell_size, facet_size and facet_distance");
+    if (c.cell_radius_edge_ratio != 0 && c.cell_radius_edge_ratio < 1)
+      throw InputError("criteria " + what + ": cell_radius_edge_ratio must be at least 1 (or 0 = off); the thesis "
+                       "uses 1.1 to 2");
+  };
+  check(options.criteria.defaults, "default");
+  for (const auto& [m, c] : options.criteria.per_material) check(c, "of material " + std::to_string(m));
+  if (!(oracle.diagonal() > 0)) throw InputError("the inputs have no extent: nothing to mesh");
+}
+
+}  // namespace
+
+TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& features,
+                         const RuleSetTOptions& options, const RunControl& control, RuleSetTStatistics* statistics) {
+  validate(oracle, options);
+  RuleSetTStatistics local;
+  RuleSetTStatistics& stats = statistics ? *statistics : local;
+  RuleSetTRefiner refiner(oracle, features, options, control, stats);
+  TetMesh mesh = refiner.run();
+  if (mesh.tets.empty())
+    throw InputError("the thesis engine produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
+                     "lower cell_size and facet_size below the smallest part's thickness");
+  return mesh;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,69 @@
+#pragma once
+// The thesis' refiner (Rule Set T = Rule Set Q + Rule Set S++, thesis §3.3) behind a plain
+// interface: no CGAL type crosses this header, so only ThesisEngine.cpp pays for the
+// Delaunay triangulation templates.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "MeshCriteria.h"
+#include "RunControl.h"
+#include "domain/HierarchicalOracle.h"
+#include "features/FeatureGraph.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+enum class MaterialAssignment { Circumcenter, Barycenter };
+
+struct RuleSetTOptions {
+  CriteriaTable criteria;
+  MaterialAssignment assignment = MaterialAssignment::Circumcenter;  // Pons 2007 / thesis §4.1
+  std::vector<Point3> initial_points;  // the job's initial_points, inserted as interior points
+  int64_t max_vertices = 0;            // 0 = no limit; reaching it throws LimitError
+  unsigned seed = 0;                   // order of the boundary seeds (the only random choice)
+  // Where the input has angles under 60 degrees (InputAngles): feature curves along a sharp
+  // dihedral edge and points (star vertices, cone apexes). Cells near them that fail only the
+  // radius-edge bound are left (terminator rule) instead of splitting segments without end.
+  std::vector<int> small_angle_curves;
+  std::vector<Point3> small_angle_points;
+};
+
+// An element the refiner left although it violates its criteria, and why.
+struct LeftElement {
+  std::string kind;    // "cell" or "facet"
+  std::string reason;  // which criterion fails and why it was not refined
+  Point3 location{};   // circumcentre (cell) or surface Delaunay ball centre (facet)
+  int material = 0;
+  double value = 0;    // the violating measure (radius-edge ratio, circumradius, ...)
+};
+
+struct RuleSetTStatistics {
+  std::map<std::string, double> seconds;     // per phase
+  std::map<std::string, int64_t> insertions;  // per rule: T1.1, T1.2, T1.shell, T2.1, T2.2, T3.1 ...
+  int64_t initial_points = 0;
+  int64_t star_vertices = 0;
+  int64_t constrained_subsegments = 0;        // at the end
+  std::vector<LeftElement> left;
+  // Checked once at the end, by other means than the refinement uses (nearest-vertex
+  // queries): subsegments that are not Delaunay edges or have a vertex in their diametral
+  // ball, restricted facets with a vertex off the boundary. All zero unless elements are left.
+  int64_t subsegments_not_edges = 0;
+  int64_t encroached_subsegments = 0;
+  int64_t restricted_facets_off_boundary = 0;
+  // When a limit stops the refinement: the cells with label > 0 at that moment, for inspection.
+  TetMesh partial;
+};
+
+// Meshes the composite domain of `oracle` by Rule Set T with the polylines of `features` as
+// constrained segments (empty = the featureless approach). Every constrained subsegment is an
+// edge of the result (listed in feature_edges with its curve id). Vertices inserted on the
+// boundary are exact oracle crossings; vertices on segments lie on the segment chords (the
+// pipeline puts them on the curves). Throws LimitError (vertex or time limit; the mesh so far
+// is left in statistics->partial), Cancelled.
+TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& features,
+                         const RuleSetTOptions& options, const RunControl& control,
+                         RuleSetTStatistics* statistics = nullptr);
+
+}  // namespace oraclemesh

@@ -1,0 +1,282 @@
+// The thesis engine (Rule Set T, issue 7): constrained segments end up as chains of mesh
+// edges, restricted facets have their vertices on the boundary, cells meet their criteria or
+// are listed, volumes match the Boolean composition, the run is deterministic and ends within
+// its limits even for input angles under 60 degrees.
+// CGAL before OpenCASCADE (OCCT's Handle macro breaks CGAL).
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "Error.h"
+#include "demo_assembly_job.h"
+#include "job/Pipeline.h"
+#include "mesh_checks.h"
+#include "occt_checks.h"
+#include "small_angle_shapes.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+double circumradius(const TetMesh& m, size_t t) {
+  std::array<K::Point_3, 4> p;
+  for (int k = 0; k < 4; ++k) {
+    const Point3& q = m.points[m.tets[t][k]];
+    p[k] = K::Point_3(q[0], q[1], q[2]);
+  }
+  return std::sqrt(CGAL::squared_distance(CGAL::circumcenter(p[0], p[1], p[2], p[3]), p[0]));
+}
+
+double shortestEdge(const TetMesh& m, size_t t) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const auto& e : test::kTetEdges)
+    shortest = std::min(shortest, distance(m.points[m.tets[t][e[0]]], m.points[m.tets[t][e[1]]]));
+  return shortest;
+}
+
+std::set<std::pair<int64_t, int64_t>> meshEdges(const TetMesh& m) {
+  std::set<std::pair<int64_t, int64_t>> edges;
+  for (const auto& t : m.tets)
+    for (const auto& e : test::kTetEdges) edges.insert(std::minmax(t[e[0]], t[e[1]]));
+  return edges;
+}
+
+// Meshing takes a second: each order is meshed once and shared by the tests below.
+const JobResult& thesisDemo(int order) {
+  static std::map<int, JobResult> cache;
+  auto it = cache.find(order);
+  if (it == cache.end())
+    it = cache.emplace(order, runJob(JobSpec::fromJson(test::demoAssemblyJob(order, "thesis"), ""), RunControl())).first;
+  return it->second;
+}
+
+// The criteria checks of the engine, on the final (snapped) mesh: every cell within its
+// material's bounds or near an element the report lists. The snap moves vertices on curved
+// feature edges from the segment chords onto the curves (up to the chord's sagitta), which can
+// flatten a sliver there: cells with such a vertex are not checked.
+void expectCellsMeetCriteriaOrAreListed(const JobResult& r, const std::map<int, std::pair<double, double>>& bounds,
+                                        double slack) {
+  const TetMesh& m = r.mesh;
+  const auto movedBySnap = [&](size_t t) {
+    for (int k = 0; k < 4; ++k)
+      if (m.vertex_dimension[m.tets[t][k]] == 1) return true;
+    return false;
+  };
+  std::vector<Point3> listed;
+  for (const auto& e : r.report.at("thesis").at("elements_left"))
+    listed.push_back(e.at("location").get<Point3>());
+  int64_t unexplained = 0;
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    if (movedBySnap(t)) continue;
+    const auto [size, ratio] = bounds.at(m.tet_materials[t]);
+    const double r0 = circumradius(m, t);
+    if (r0 <= size * (1 + slack) && r0 / shortestEdge(m, t) <= ratio * (1 + slack)) continue;
+    Point3 centroid{0, 0, 0};
+    for (int k = 0; k < 4; ++k) centroid = centroid + 0.25 * m.points[m.tets[t][k]];
+    const bool near = std::any_of(listed.begin(), listed.end(), [&](const Point3& p) { return distance(p, centroid) < 2 * size; });
+    unexplained += !near;
+  }
+  // The listing keeps the worst 200: beyond that, the count must cover the rest.
+  const int64_t listedCount = r.report.at("thesis").at("rule_insertions").value("left_elements", 0);
+  EXPECT_TRUE(unexplained == 0 || listedCount > 200) << unexplained << " cells fail their criteria unlisted";
+}
+
+TEST(ThesisEngine, SphereMeetsCriteriaWithBoundaryOnSphere) {
+  const json job = {{"inputs", {{{"name", "Ball"}, {"sphere", {{"center", {1, 2, 3}}, {"radius", 5}}}, {"material", 1}}}},
+                    {"criteria", {{"default", {{"cell_size", 1.5}, {"facet_size", 1.5}, {"facet_distance", 0.05}}}}},
+                    {"engine", "thesis"},
+                    {"element_order", 1}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const TetMesh& m = r.mesh;
+  const json& check = r.report.at("thesis").at("final_check");
+  EXPECT_EQ(check.at("restricted_facets_off_boundary"), 0);
+  for (int64_t v : test::boundaryNodes(m))
+    EXPECT_NEAR(distance(m.points[v], {1, 2, 3}), 5, 1e-9 * 10) << "boundary node off the sphere";
+  const double volume = test::volumePerMaterial(m).at(1);
+  const double exact = 4.0 / 3.0 * M_PI * 125;
+  // Chords of facets within facet_distance 0.05 of a radius-5 sphere: about 2 % under.
+  EXPECT_NEAR(volume, exact, 0.03 * exact);
+  EXPECT_LT(volume, exact);
+  expectCellsMeetCriteriaOrAreListed(r, {{1, {1.5, 2.0}}}, 1e-6);
+  const json& rules = r.report.at("thesis").at("rule_insertions");
+  EXPECT_GT(rules.value("T2.2", 0), 0);
+  EXPECT_GT(rules.value("T3.4", 0) + rules.value("T3.3", 0), 0);
+}
+
+TEST(ThesisEngine, DemoAssemblySegmentsAreUnencroachedChainsOfEdges) {
+  const JobResult& r = thesisDemo(1);
+  const TetMesh& m = r.mesh;
+  const json& thesis = r.report.at("thesis");
+  EXPECT_EQ(thesis.at("final_check").at("subsegments_not_edges"), 0);
+  EXPECT_EQ(thesis.at("final_check").at("encroached_subsegments"), 0);
+  EXPECT_EQ(thesis.at("final_check").at("restricted_facets_off_boundary"), 0);
+  EXPECT_GT(thesis.at("star_vertices").get<int>(), 0);
+  EXPECT_GT(thesis.at("rule_insertions").value("T1.1", 0), 0);
+  // Every feature edge is a mesh edge, and the edges of one curve form chains (no vertex
+  // has more than two edges of the same curve).
+  ASSERT_GT(m.feature_edges.size(), 20u);
+  const auto edges = meshEdges(m);
+  std::map<std::pair<int, int64_t>, int> degree;
+  for (size_t i = 0; i < m.feature_edges.size(); ++i) {
+    const auto& e = m.feature_edges[i];
+    EXPECT_TRUE(edges.count(std::minmax(e[0], e[1]))) << "feature edge is not a mesh edge";
+    ++degree[{m.feature_edge_curves[i], e[0]}];
+    ++degree[{m.feature_edge_curves[i], e[1]}];
+  }
+  for (const auto& [key, d] : degree) EXPECT_LE(d, 2) << "curve " << key.first << " branches";
+  // Every curve the pipeline found is present.
+  std::set<int> curves(m.feature_edge_curves.begin(), m.feature_edge_curves.end());
+  EXPECT_EQ(static_cast<int>(curves.size()), r.report.at("features").at("polylines").get<int>());
+}
+
+TEST(ThesisEngine, DemoAssemblyVolumesNodesAndCriteria) {
+  const test::DemoAssembly a;
+  const double pinVolume = test::volumeOf(a.pin);
+  const double plateVolume = test::volumeOf(BRepAlgoAPI_Cut(BRepAlgoAPI_Cut(a.plate, a.pin).Shape(), a.cut).Shape());
+  // Second order, as the demo assembly's own volume test: tet10 mid nodes on the cylinder
+  // take the chord error out of the volumes.
+  const std::map<int, double> volumes = test::volumePerMaterial(thesisDemo(2).mesh);
+  ASSERT_EQ(volumes.size(), 2u);
+  EXPECT_NEAR(volumes.at(1), pinVolume, 0.005 * pinVolume);
+  EXPECT_NEAR(volumes.at(2), plateVolume, 0.005 * plateVolume);
+  const JobResult& r = thesisDemo(1);
+  const TetMesh& m = r.mesh;
+  const TopoDS_Compound all = test::compoundOf({a.pin, a.plate, a.cut});
+  double worst = 0;
+  for (int64_t v : test::boundaryNodes(m)) worst = std::max(worst, test::distanceToShape(m.points[v], all));
+  EXPECT_LT(worst, 1e-9 * 120);
+  const test::Conformity c = test::conformity(m);
+  EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
+  EXPECT_EQ(c.open_boundary_edges, 0);
+  EXPECT_EQ(c.inverted, 0);
+  expectCellsMeetCriteriaOrAreListed(r, {{1, {3.0, 2.0}}, {2, {5.0, 2.0}}}, 1e-6);
+  std::cout << "[figures] thesis demo: pin " << volumes.at(1) << " vs " << pinVolume << ", plate " << volumes.at(2)
+            << " vs " << plateVolume << ", boundary nodes off faces <= " << worst << "\n";
+}
+
+TEST(ThesisEngine, SameJobSameMeshAndFiguresAgainstMesh3) {
+  const JobResult& first = thesisDemo(1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const JobResult again = runJob(JobSpec::fromJson(test::demoAssemblyJob(1, "thesis"), ""), RunControl());
+  const double thesisSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(again.mesh.points, first.mesh.points);
+  EXPECT_EQ(again.mesh.tets, first.mesh.tets);
+  json cgalJob = test::demoAssemblyJob(1, "cgal");
+  cgalJob["optimize"] = false;  // the thesis engine has no sliver pass yet: compare refinement only
+  const auto t1 = std::chrono::steady_clock::now();
+  const JobResult cgal = runJob(JobSpec::fromJson(cgalJob, ""), RunControl());
+  const double cgalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  std::cout << "[figures] demo assembly, same criteria: thesis " << again.mesh.tets.size() << " tets, "
+            << again.mesh.points.size() << " vertices, " << thesisSeconds << " s (min dihedral "
+            << again.report["quality"]["min_dihedral_deg"] << "); cgal (no optimizers) " << cgal.mesh.tets.size()
+            << " tets, " << cgal.mesh.points.size() << " vertices, " << cgalSeconds << " s (min dihedral "
+            << cgal.report["quality"]["min_dihedral_deg"] << "); engine alone: thesis " << again.report["seconds"]["thesis"]
+            << " s, Mesh_3 " << cgal.report["seconds"]["mesh3"] << " s\n";
+  std::cout << "[figures] thesis rules: " << again.report["thesis"]["rule_insertions"].dump() << "\n";
+  json featureless = test::demoAssemblyJob(1, "thesis");
+  featureless["features"] = false;
+  const JobResult plain = runJob(JobSpec::fromJson(featureless, ""), RunControl());
+  EXPECT_EQ(plain.report["thesis"]["star_vertices"], 0);
+  EXPECT_TRUE(plain.mesh.feature_edges.empty());
+  std::cout << "[figures] thesis featureless: " << plain.mesh.tets.size() << " tets, " << plain.mesh.points.size()
+            << " vertices, " << plain.report["seconds"]["thesis"] << " s in the engine\n";
+}
+
+TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {
+  const double radius = 3, height = 15;
+  const json job = {
+      {"inputs",
+       {{{"name", "Wedge"}, {"brep", test::brepText(test::wedge(10, 30, 8))}, {"material", 1}},
+        {{"name", "Spike"}, {"brep", test::brepText(test::coneWithTip(gp_Pnt(40, 0, 0), radius, height))}, {"material", 2}}}},
+      {"criteria", {{"default", {{"cell_size", 3}, {"facet_size", 3}, {"facet_distance", 0.3}, {"edge_size", 1.5}}},
+                    {"materials", {{"2", {{"facet_size", 1.5}, {"facet_distance", 0.05}}}}}}},
+      {"engine", "thesis"},
+      {"element_order", 1},
+      {"limits", {{"max_vertices", 200000}, {"time_limit", 60}}}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const std::map<int, double> volumes = test::volumePerMaterial(r.mesh);
+  const double wedgeVolume = 0.5 * 30 * 30 * std::tan(10 * test::kDegree) * 8;
+  const double coneVolume = M_PI * radius * radius * height / 3;
+  EXPECT_NEAR(volumes.at(1), wedgeVolume, 0.02 * wedgeVolume);
+  EXPECT_NEAR(volumes.at(2), coneVolume, 0.03 * coneVolume);
+  EXPECT_EQ(r.report.at("thesis").at("final_check").at("encroached_subsegments"), 0);
+  // The terminator leaves elements only at the small angles: along the wedge's 10-degree edge
+  // (the z axis from 0 to 8) or at the cone's tip (40, 0, 15).
+  for (const auto& e : r.report.at("thesis").at("elements_left")) {
+    const Point3 p = e.at("location").get<Point3>();
+    const double toEdge = distance(p, {0, 0, std::clamp(p[2], 0.0, 8.0)});
+    EXPECT_LT(std::min(toEdge, distance(p, {40, 0, height})), 1.0) << e.dump();
+    EXPECT_FALSE(e.at("reason").get<std::string>().empty());
+  }
+  std::cout << "[figures] wedge + cone, thesis: " << r.mesh.points.size() << " vertices, "
+            << r.report["thesis"]["rule_insertions"].dump() << ", " << r.report["seconds"]["thesis"] << " s\n";
+}
+
+TEST(ThesisEngine, VertexLimitStopsWithLimitErrorAndPartialMesh) {
+  json job = test::demoAssemblyJob(1, "thesis");
+  job["limits"] = {{"max_vertices", 300}};
+  job["criteria"]["default"]["cell_size"] = 50;  // pass the up-front size estimate
+  job["criteria"]["materials"]["1"]["cell_size"] = 50;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "oraclemesh_thesis_vertex_limit";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  job["output"] = {{"files", {(dir / "mesh.vtu").string()}}};
+  try {
+    runJob(JobSpec::fromJson(job, ""), RunControl());
+    ADD_FAILURE() << "no LimitError";
+  } catch (const LimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_vertices"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mesh.partial.vtu"), std::string::npos) << e.what();
+  }
+  // The mesh so far is written for inspection, the requested file is not.
+  EXPECT_GT(std::filesystem::file_size(dir / "mesh.partial.vtu"), 1000u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "mesh.vtu"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ThesisEngine, TimeLimitStopsRefinementWithLimitError) {
+  // The time limit runs out while the engine refines: when it reports the refine phase, the
+  // progress callback waits for the limit; the engine's next checkpoint must throw.
+  RunControl* controlPointer = nullptr;
+  bool refining = false;
+  RunControl control(
+      [&](const std::string& phase, double) {
+        if (phase != "refine" || refining) return;
+        refining = true;
+        while (controlPointer->remainingSeconds() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      },
+      2.0);
+  controlPointer = &control;
+  EXPECT_THROW(runJob(JobSpec::fromJson(test::demoAssemblyJob(1, "thesis"), ""), control), LimitError);
+  EXPECT_TRUE(refining);
+}
+
+TEST(ThesisEngine, JobOptionsOfTheThesisEngine) {
+  json job = test::demoAssemblyJob(1, "thesis");
+  job["material_assignment"] = "barycenter";
+  job["initial_points"] = {{20, 20, 5}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(r.report.at("material_assignment"), "barycenter");
+  const double target[3] = {20, 20, 5};
+  const bool present = std::any_of(r.mesh.points.begin(), r.mesh.points.end(), [&](const Point3& p) {
+    return p[0] == target[0] && p[1] == target[1] && p[2] == target[2];
+  });
+  EXPECT_TRUE(present) << "the initial point is a mesh vertex";
+  job["engine"] = "cgal";
+  EXPECT_THROW(JobSpec::fromJson(job, ""), InputError);
+}
+
+}  // namespace
+}  // namespace oraclemesh
