@@ -169,6 +169,20 @@ struct CurveOrigin {
   const std::vector<Point3>* user = nullptr;        // the job's polyline for a user polyline
 };
 
+// The CGAL Mesh_3 settings of a job: the Mesh_3 engine's, and the sliver removal every
+// engine's mesh goes through.
+Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
+  Mesh3Options options;
+  options.criteria = criteria;
+  options.perturb = job.perturb;
+  options.exude = job.exude;
+  options.optimize_time_limit = job.optimize_time_limit;
+  options.sliver_bound = job.sliver_bound;
+  options.max_vertices = job.max_vertices;
+  options.seed = job.seed;
+  return options;
+}
+
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
                            const RunControl& control, std::unordered_map<int, CurveOrigin>& origins) {
   FeatureGraph all;
@@ -479,6 +493,22 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     }
     clock.finish("thesis");  // the engine's total; its phases are reported beside it
     for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
+    // Rule Set T bounds radius-edge ratios, which slivers satisfy: they are removed by the same
+    // CGAL perturb/exude step the Mesh_3 engine runs, on a C3T3 rebuilt from this mesh. It must
+    // run before the snap, while the mesh is still the Delaunay triangulation of its points.
+    // Exudation is left out: it weights non-feature vertices, and without Mesh_3's protecting
+    // balls on the segments that can drop a constrained subsegment from the triangulation (the
+    // demo assembly lost 6 of 537); perturbation alone keeps them all and reached the same
+    // minimum dihedral angle there.
+    if (job.perturb) {
+      control.report("sliver removal", 0);
+      Mesh3Options sliverRemoval = mesh3Options(job, criteria);
+      sliverRemoval.exude = false;
+      Mesh3Statistics optimizeStats;
+      optimizeTetMeshWithCgal(result.mesh, oracle, sliverRemoval, control, &optimizeStats);
+      for (const auto& [phase, sec] : optimizeStats.seconds) clock.seconds["thesis_" + phase] = sec;
+      clock.finish("sliver_removal");
+    }
     seedsOnBoundary = stats.initial_points;
     json left = json::array();
     for (const LeftElement& e : stats.left)
@@ -497,14 +527,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                          " element(s) still violate their criteria (see report.thesis.elements_left for where and "
                          "why; small input angles are the usual cause)");
   } else {
-    Mesh3Options options;
-    options.criteria = criteria;
-    options.perturb = job.perturb;
-    options.exude = job.exude;
-    options.optimize_time_limit = job.optimize_time_limit;
-    options.sliver_bound = job.sliver_bound;
-    options.max_vertices = job.max_vertices;
-    options.seed = job.seed;
+    const Mesh3Options options = mesh3Options(job, criteria);
     Mesh3Statistics stats;
     result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
     clock.finish("mesh3");  // the engine's total; its phases are reported beside it
