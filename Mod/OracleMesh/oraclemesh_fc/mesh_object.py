@@ -11,7 +11,7 @@ import json
 import FreeCAD
 
 from .handoff import build_femmesh
-from .job import build_job, input_kinds
+from .job import build_job, input_kinds, name_polylines
 from .runner import import_core, run_job
 
 TYPE = "Fem::OracleMesh"
@@ -70,6 +70,9 @@ PROPERTIES = (
     ("App::PropertyMap", "InputMaterialNames", "Inputs",
      "Volume group name per input without a FEM material: key = input Name, value = a "
      "material name (group '<name>_Volumes')", None),
+    ("App::PropertyLinkSubList", "ExtraEdges", "Mesh",
+     "Extra curves kept as chains of mesh edges: picked edges (EdgeN) of any shape, and whole "
+     "sketches or shapes (all their edges); each must lie inside or on the meshed parts", None),
     ("App::PropertyIntegerList", "FeatureEdges", "Output",
      "Sharp and junction edges of the last mesh, as pairs of FemMesh node ids (drawn by the "
      "view)", None),
@@ -116,13 +119,15 @@ class OracleMeshProxy:
 
     def execute(self, obj):
         obj.InputKinds = input_kinds(obj)
+        polyline_names = []
         try:
-            job, groups, described = build_job(obj)
+            job, groups, described, polyline_names = build_job(obj)
             result = run_job(job, obj.Label)
             femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups)
         except Exception as e:
+            # The core names extra edges by their place in the job: say which edge it is.
             message = "OracleMesh '%s' failed, the previous mesh is kept: %s" % (
-                obj.Label, error_text(e))
+                obj.Label, name_polylines(error_text(e), polyline_names))
             obj.Status = message
             FreeCAD.Console.PrintError(message + "\n")
             if FreeCAD.GuiUp and not is_cancel(e):  # the user asked for it: no error box
@@ -191,7 +196,23 @@ OPTION_PROPERTIES = {
     "seed": "Seed",
     "max_vertices": "MaxVertices",
     "time_limit": "TimeLimit",
+    "junctions": "Junctions",
 }
+
+
+def extra_edge_links(items):
+    """PropertyLinkSubList value of extra edges given as objects or (object, sub-names).
+
+    A whole object goes in bare: FreeCAD drops an (object, ()) pair with no sub-names."""
+    links = []
+    for item in items:
+        if isinstance(item, (tuple, list)):
+            obj, subs = item[0], item[1] if len(item) > 1 else ()
+            subs = [subs] if isinstance(subs, str) else [s for s in subs if s]
+            links.extend([(obj, s) for s in subs] if subs else [obj])
+        else:
+            links.append(item)
+    return links
 
 
 def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
@@ -200,11 +221,13 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     inputs: solids, compounds of solids or Mesh objects, highest priority first. cuts: regions removed from every input.
     analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
-    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no features),
-    optimize, seed, max_vertices, time_limit, material_sizes ({input object, Name or Label:
-    cell size or dict of criteria}), output ({"files": [...], "report": path}).
+    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
+    and junctions), junctions (bool), optimize, seed, max_vertices, time_limit,
+    material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
+    ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
+    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
     """
-    known = set(OPTION_PROPERTIES) | {"material_sizes", "output"}
+    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges"}
     unknown = sorted(set(job_options) - known)
     if unknown:
         raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
@@ -234,6 +257,7 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     output = job_options.get("output") or {}
     obj.OutputFiles = [str(f) for f in output.get("files", [])]
     obj.OutputReport = str(output.get("report", ""))
+    obj.ExtraEdges = extra_edge_links(job_options.get("extra_edges") or ())
     if analysis is not None:
         analysis.addObject(obj)
     return obj
