@@ -15,6 +15,7 @@ def test_extra_edges(run_freecad):
     assert r["polyline_points"][1] > 10  # the arc in chords
     assert r["features"] == {"sharp_angle_deg": 30.0, "junctions": True}
 
+    assert r["stored_mid_nodes_right"]
     tol = r["tolerance"]
     for name, c in r["chains"].items():
         print(name, {k: v for k, v in c.items()})

@@ -10,7 +10,7 @@ import json
 
 import FreeCAD
 
-from .handoff import build_femmesh
+from .handoff import build_femmesh, feature_edge_mid_nodes
 from .job import build_job, input_kinds, name_polylines
 from .runner import import_core, run_job
 
@@ -76,11 +76,14 @@ PROPERTIES = (
     ("App::PropertyIntegerList", "FeatureEdges", "Output",
      "Sharp and junction edges of the last mesh, as pairs of FemMesh node ids (drawn by the "
      "view)", None),
+    ("App::PropertyIntegerList", "FeatureEdgeMidNodes", "Output",
+     "FemMesh id of the mid node of each feature edge (quadratic meshes; empty for linear)",
+     None),
     ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
     ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
 )
 READ_ONLY = ("Status", "Report", "InputKinds")
-HIDDEN = ("FeatureEdges",)
+HIDDEN = ("FeatureEdges", "FeatureEdgeMidNodes")
 
 
 class OracleMeshProxy:
@@ -142,6 +145,8 @@ class OracleMeshProxy:
             "groups": {g: ids for g, ids in groups},
         }
         obj.FeatureEdges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
+        obj.FeatureEdgeMidNodes = [m + 1 for m in feature_edge_mid_nodes(result.tets,
+                                                                         result.feature_edges)]
         obj.FemMesh = femmesh
         obj.Report = json.dumps(report, indent=1, sort_keys=True)
         obj.Status = "%d nodes, %d %s; groups: %s" % (

@@ -63,9 +63,8 @@ def chain_facts(fm, feature_pairs, edge, tolerance):
     }
 
 
-def mid_node_offset(fm, pairs, edge):
-    """Largest distance from `edge` of the mid nodes of the tet10 edges in `pairs`."""
-    import Part
+def mid_nodes(fm, pairs):
+    """{frozenset(corner ids): mid node id} of the tet10 edges in `pairs`, from the elements."""
     wanted = {frozenset(p) for p in pairs}
     mids = {}
     for e in fm.Volumes:
@@ -74,8 +73,15 @@ def mid_node_offset(fm, pairs, edge):
             key = frozenset((ids[a], ids[b]))
             if key in wanted:
                 mids[key] = ids[4 + k]
+    return mids
+
+
+def mid_node_offset(fm, mids, pairs, edge):
+    """(mid nodes found, largest distance from `edge`) of the tet10 edges in `pairs`."""
+    import Part
     nodes = fm.Nodes
-    return len(mids), max(edge.distToShape(Part.Vertex(nodes[m]))[0] for m in mids.values())
+    found = [mids[frozenset(p)] for p in pairs if frozenset(p) in mids]
+    return len(found), max(edge.distToShape(Part.Vertex(nodes[m]))[0] for m in found)
 
 
 def check(params):
@@ -119,11 +125,15 @@ def check(params):
     out["feature_edges"] = len(feature_pairs)
     edges = {"line": top.Shape.Edges[0], "arc": top.Shape.Edges[1],
              "marker": marker.Shape.getElement(marker_edge)}
+    mids = mid_nodes(fm, feature_pairs)
+    # The view draws each quadratic feature edge through the mid node stored for it.
+    out["stored_mid_nodes_right"] = list(mesh.FeatureEdgeMidNodes) == [
+        mids.get(frozenset(p)) for p in feature_pairs]
     chains = {}
     for name, edge in edges.items():
         chains[name] = chain_facts(fm, feature_pairs, edge, tolerance)
         chains[name]["mid_nodes"], chains[name]["mid_offset"] = mid_node_offset(
-            fm, chains[name].pop("pairs"), edge)
+            fm, mids, chains[name].pop("pairs"), edge)
     out["chains"] = chains
 
     # A sketch leaving the box: the core refuses it, the message names the sketch's edge.
