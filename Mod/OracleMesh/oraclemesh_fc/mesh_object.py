@@ -1,7 +1,7 @@
 """The OracleMesh FEM mesh object: a Fem::FemMeshObjectPython whose recompute runs the core.
 
 Its properties are the job (inputs in priority order, cuts, sizes, element order, sharp-edge
-angle); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
+angle, extra edges); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
 with the result, one volume group per material (see job.volume_groups). On any error the
 previous FemMesh stays as it was, the error is printed to the report view (and shown in a
 message box in the GUI) and execute() raises, so FreeCAD marks the object as failed.
@@ -51,7 +51,8 @@ PROPERTIES = (
      "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
      (2, 1, 2, 1)),
     ("App::PropertyAngle", "SharpAngle", "Mesh",
-     "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = off)",
+     "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = no "
+     "sharp edges and no junctions; extra edges are kept)",
      30.0),
     ("App::PropertyBool", "Optimize", "Mesh", "Remove slivers (perturb and exude)", True),
     ("App::PropertyInteger", "Seed", "Mesh", "Random seed (the same job gives the same mesh)", 0),
