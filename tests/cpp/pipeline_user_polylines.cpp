@@ -152,6 +152,16 @@ TEST(UserPolylines, MalformedPolylinesAreRefusedByTheJob) {
   }
 }
 
+TEST(UserPolylines, SharpAngleZeroMeansNoSharpEdgesOtherAnglesMustBeBelow180) {
+  auto withAngle = [](const nlohmann::json& angle) {
+    return nlohmann::json{{"inputs", {{{"name", "Ball"}, {"sphere", {{"center", {0, 0, 0}}, {"radius", 1}}}}}},
+                          {"features", {{"sharp_angle_deg", angle}}}};
+  };
+  EXPECT_EQ(JobSpec::fromJson(withAngle(0), "").sharp_angle_deg, 0.0);
+  for (const nlohmann::json& bad : {nlohmann::json(-1), nlohmann::json(180), nlohmann::json("30")})
+    EXPECT_THROW(JobSpec::fromJson(withAngle(bad), ""), InputError) << bad.dump();
+}
+
 TEST(SplitAtCrossings, CrossingBecomesASharedEndPoint) {
   FeatureGraph graph;
   FeaturePolyline edge;
