@@ -256,7 +256,7 @@ def parse_size_entry(text, where):
 
 
 # Chord error allowed when a curved extra edge becomes a polyline, as a fraction of the edge's
-# length (a full circle of radius r gets about 36 chords). The core keeps every point as a
+# length (a full circle gets 28 chords). The core keeps every point as a
 # mesh vertex and puts the nodes between them back onto the exact curve (the edge goes along
 # as BREP), so the chords only need to stay well inside the elements along the edge.
 EXTRA_EDGE_CHORD_ERROR = 1e-3
@@ -305,9 +305,7 @@ def edge_points(edge):
     """Points of a polyline along edge: its ends for a straight edge, else chords within
     EXTRA_EDGE_CHORD_ERROR of the edge's length of the curve."""
     if edge.Curve.TypeId == "Part::GeomLine":
-        points = [edge.Vertexes[0].Point, edge.Vertexes[-1].Point]
-        if edge.Orientation == "Reversed":
-            points.reverse()
+        points = [edge.valueAt(edge.FirstParameter), edge.valueAt(edge.LastParameter)]
     else:
         points = edge.discretize(Deflection=EXTRA_EDGE_CHORD_ERROR * edge.Length)
     out = []
@@ -322,7 +320,7 @@ def extra_edge_polylines(mesh_obj):
     edge as BREP text so the core snaps mesh nodes onto the exact curve."""
     polylines, names = [], []
     for name, edge in extra_edge_items(mesh_obj):
-        if edge.Length <= 0 or edge.isNull():
+        if edge.isNull() or edge.Length <= 0:
             raise MeshInputError("extra edge %s of '%s' has no length: remove it"
                                  % (name, mesh_obj.Label))
         polylines.append({"points": edge_points(edge), "brep": edge.exportBrepToString()})
