@@ -1,7 +1,12 @@
 // User polylines (job features.polylines): kept as chains of mesh edges, on faces and inside
 // the volume, split where they cross each other and the box's sharp edges.
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <GC_MakeArcOfCircle.hxx>
 #include <gtest/gtest.h>
+
+#include <set>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -71,6 +76,73 @@ TEST(UserPolylines, LeavingTheDomainIsAnErrorNamingThePolyline) {
   }
 }
 
+// A half circle on the block's top face given as chords plus its exact edge (what FreeCAD sends
+// for a sketch arc), with sharp edges off: the only feature edges are the arc's, and their
+// nodes lie on the circle, not on the chords.
+TEST(UserPolylines, NodesOfAPolylineWithItsCadEdgeLieOnTheExactCurve) {
+  const double radius = 12, pi = std::acos(-1.0);
+  const Point3 centre{20, 20, 20};
+  const TopoDS_Edge arc = BRepBuilderAPI_MakeEdge(
+      GC_MakeArcOfCircle(gp_Pnt(32, 20, 20), gp_Pnt(20, 32, 20), gp_Pnt(8, 20, 20)).Value());
+  nlohmann::json chords = nlohmann::json::array();
+  const int segments = 8;  // chords up to 0.23 off the circle
+  for (int k = 0; k <= segments; ++k) {
+    const double a = pi * k / segments;
+    chords.push_back({centre[0] + radius * std::cos(a), centre[1] + radius * std::sin(a), centre[2]});
+  }
+  const nlohmann::json job = {
+      {"inputs", {{{"name", "Block"}, {"brep", test::brepText(BRepPrimAPI_MakeBox(40, 40, 20).Shape())}, {"material", 1}}}},
+      {"criteria", {{"default", {{"cell_size", 6}, {"facet_size", 6}, {"facet_distance", 1}, {"edge_size", 2}}}}},
+      {"features", {{"sharp_angle_deg", 0}, {"junctions", false},
+                    {"polylines", {{{"points", chords}, {"brep", test::brepText(arc)}}}}}},
+      {"element_order", 2},
+      {"seed", 0}};
+  const JobResult result = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const TetMesh& mesh = result.mesh;
+  const double tolerance = 1e-9 * result.report.at("bbox_diagonal").get<double>();
+  auto offCircle = [&](const Point3& p) {
+    const double r = std::hypot(p[0] - centre[0], p[1] - centre[1]);
+    return std::max({std::abs(r - radius), std::abs(p[2] - centre[2]), std::max(0.0, centre[1] - p[1])});
+  };
+  ASSERT_GT(mesh.feature_edges.size(), static_cast<size_t>(segments));
+  double worst = 0, length = 0;
+  for (const auto& e : mesh.feature_edges) {
+    worst = std::max({worst, offCircle(mesh.points[e[0]]), offCircle(mesh.points[e[1]])});
+    length += distance(mesh.points[e[0]], mesh.points[e[1]]);
+  }
+  EXPECT_LE(worst, tolerance);  // nodes on the chords would be up to 0.23 off
+  EXPECT_LE(length, pi * radius);
+  EXPECT_GE(length, 0.99 * pi * radius);
+  // Second-order mid nodes of the arc's edges are on the circle too.
+  std::set<std::pair<int64_t, int64_t>> arcEdges;
+  for (const auto& e : mesh.feature_edges) arcEdges.insert(std::minmax(e[0], e[1]));
+  ASSERT_EQ(mesh.tet_mid_nodes.size(), mesh.tets.size());
+  static const int ends[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  double worstMid = 0;
+  size_t midNodes = 0;
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int k = 0; k < 6; ++k)
+      if (arcEdges.count(std::minmax(mesh.tets[t][ends[k][0]], mesh.tets[t][ends[k][1]]))) {
+        worstMid = std::max(worstMid, offCircle(mesh.points[mesh.tet_mid_nodes[t][k]]));
+        ++midNodes;
+      }
+  EXPECT_GE(midNodes, mesh.feature_edges.size());
+  EXPECT_LE(worstMid, tolerance);
+}
+
+TEST(UserPolylines, ABrepThatIsNotOneEdgeIsRefusedNamingThePolyline) {
+  const nlohmann::json job = {
+      {"inputs", {{{"name", "Block"}, {"brep", test::brepText(BRepPrimAPI_MakeBox(40, 40, 20).Shape())}, {"material", 1}}}},
+      {"features", {{"polylines", {{{"points", {{10, 10, 10}, {20, 10, 10}}},
+                                    {"brep", test::brepText(BRepPrimAPI_MakeBox(1, 1, 1).Shape())}}}}}}};
+  try {
+    runJob(JobSpec::fromJson(job, ""), RunControl());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("features.polylines[0].brep holds 12 edges"), std::string::npos) << e.what();
+  }
+}
+
 TEST(UserPolylines, MalformedPolylinesAreRefusedByTheJob) {
   for (const nlohmann::json& bad : {nlohmann::json{{{0, 0, 0}}}, nlohmann::json{{{0, 0, 0}, {0, 0, 0}}},
                                     nlohmann::json{{{0, 0}, {1, 1}}}, nlohmann::json{"line"}}) {
@@ -78,6 +150,16 @@ TEST(UserPolylines, MalformedPolylinesAreRefusedByTheJob) {
                                 {"features", {{"polylines", bad}}}};
     EXPECT_THROW(JobSpec::fromJson(job, ""), InputError) << bad.dump();
   }
+}
+
+TEST(UserPolylines, SharpAngleZeroMeansNoSharpEdgesOtherAnglesMustBeBelow180) {
+  auto withAngle = [](const nlohmann::json& angle) {
+    return nlohmann::json{{"inputs", {{{"name", "Ball"}, {"sphere", {{"center", {0, 0, 0}}, {"radius", 1}}}}}},
+                          {"features", {{"sharp_angle_deg", angle}}}};
+  };
+  EXPECT_EQ(JobSpec::fromJson(withAngle(0), "").sharp_angle_deg, 0.0);
+  for (const nlohmann::json& bad : {nlohmann::json(-1), nlohmann::json(180), nlohmann::json("30")})
+    EXPECT_THROW(JobSpec::fromJson(withAngle(bad), ""), InputError) << bad.dump();
 }
 
 TEST(SplitAtCrossings, CrossingBecomesASharedEndPoint) {

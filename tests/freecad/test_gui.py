@@ -124,6 +124,23 @@ def test_screenshot_shows_the_materials(gui):
         assert count > 300, "material %s is not visible in %s" % (group, gui["screenshot"])
     # Saturated pixels are material colours (edges are black, the background white).
     assert other < 0.05 * sum(pixels.values()), gui["screenshot"]
+    # The feature edges show: the view without their lines has far fewer dark pixels.
+    dark = gui["dark_pixels"]
+    print("dark pixels:", dark)
+    assert dark["with_edges"] > 10 * dark["without_edges"] + 500, gui["screenshot"]
+
+
+@needs_gui
+def test_extra_edges_from_the_panel(gui):
+    extra = gui["extra_edges"]
+    print("extra edges:", extra)
+    assert extra["listed"] == ["'EdgeSketch' (all edges)", "Edge1 of 'Plate'"]
+    assert "Face1 of 'Plate'" in extra["refused"]
+    assert extra["after_remove"] == ["'EdgeSketch' (all edges)"]
+    assert extra["mesh_ok"] and extra["property"] == [["EdgeSketch", [""]]]
+    assert extra["line_edges"] >= 2
+    assert abs(extra["line_covered"] - extra["line_length"]) < 1e-6 * extra["line_length"]
+    assert gui["reopened_extra_edges"] == extra["after_remove"]
 
 
 @needs_gui

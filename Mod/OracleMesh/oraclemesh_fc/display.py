@@ -46,15 +46,25 @@ def node_colours(femmesh):
 
 
 def feature_edge_points(obj):
-    """Flat list of segment end points [(x, y, z), ...] of the object's FeatureEdges."""
+    """(flat list of line segment end points [(x, y, z), ...], feature edges drawn) of the
+    object's FeatureEdges. A quadratic edge is drawn as two segments through its mid node:
+    FreeCAD draws quadratic faces through their mid nodes (on the CAD surface), under which
+    the straight chord of a convex curved edge would be hidden."""
     ids = list(getattr(obj, "FeatureEdges", []) or [])
+    mids = list(getattr(obj, "FeatureEdgeMidNodes", []) or [])
+    if len(mids) != len(ids) // 2:
+        mids = [None] * (len(ids) // 2)  # a linear mesh, or one from an older version
     nodes = obj.FemMesh.Nodes
-    points = []
-    for a, b in zip(ids[0::2], ids[1::2]):
-        if a in nodes and b in nodes:  # stale edges of an older mesh are skipped
-            points.append(tuple(nodes[a]))
-            points.append(tuple(nodes[b]))
-    return points
+    points, drawn = [], 0
+    for a, b, m in zip(ids[0::2], ids[1::2], mids):
+        if a not in nodes or b not in nodes:  # stale edges of an older mesh are skipped
+            continue
+        path = [a, m, b] if m in nodes else [a, b]
+        for p, q in zip(path, path[1:]):
+            points.append(tuple(nodes[p]))
+            points.append(tuple(nodes[q]))
+        drawn += 1
+    return points, drawn
 
 
 class FeatureEdgeNode:
@@ -98,13 +108,13 @@ class FeatureEdgeNode:
 def show(obj, edge_node=None):
     """Colour the mesh of obj by material and refresh its feature edges.
 
-    Returns (coloured nodes, feature edge segments) (FreeCAD cannot read NodeColor back)."""
+    Returns (coloured nodes, feature edges drawn) (FreeCAD cannot read NodeColor back)."""
     vobj = obj.ViewObject
     if vobj is None:
         return 0, 0
     colours = node_colours(obj.FemMesh)
     vobj.NodeColor = colours
-    points = feature_edge_points(obj)
+    points, drawn = feature_edge_points(obj)
     if edge_node is not None:
         edge_node.update(points)
-    return len(colours), len(points) // 2
+    return len(colours), drawn

@@ -93,3 +93,31 @@ def build_femmesh(points, tets, tet_materials, groups):
         gid = mesh.addGroup(name, "Volume")
         mesh.addGroupElements(gid, members.tolist())
     return mesh
+
+
+# Tet10 corner pairs of the core's mid-node columns 4..9 (01, 12, 20, 03, 13, 23).
+MID_NODE_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
+
+
+def feature_edge_mid_nodes(tets, feature_edges):
+    """Mid node index of each feature edge (core indices, as the core's arrays), or an empty
+    list for linear tets. Quadratic faces are drawn through their mid nodes, which lie on the
+    CAD surface: a straight line between the corners of a curved edge would sink under them."""
+    import numpy as np
+    tets, feature_edges = np.asarray(tets), np.asarray(feature_edges).reshape(-1, 2)
+    if tets.ndim != 2 or tets.shape[1] != 10 or not len(feature_edges):
+        return []
+    n = int(tets[:, :4].max()) + 1
+
+    def keys(a, b):
+        return np.minimum(a, b).astype(np.int64) * n + np.maximum(a, b)
+
+    all_keys = np.concatenate([keys(tets[:, i], tets[:, j]) for i, j in MID_NODE_EDGES])
+    all_mids = np.concatenate([tets[:, 4 + k] for k in range(6)])
+    all_keys, first = np.unique(all_keys, return_index=True)
+    wanted = keys(feature_edges[:, 0], feature_edges[:, 1])
+    at = np.searchsorted(all_keys, wanted)
+    if np.any(at >= len(all_keys)) or np.any(all_keys[np.minimum(at, len(all_keys) - 1)] != wanted):
+        raise ValueError("a feature edge of the core is no edge of its tets")
+    return all_mids[first[at]].tolist()
+

@@ -255,8 +255,94 @@ def parse_size_entry(text, where):
     return sizes
 
 
+# Chord error allowed when a curved extra edge becomes a polyline, as a fraction of the edge's
+# length (a full circle gets 28 chords). The core keeps every point as a
+# mesh vertex and puts the nodes between them back onto the exact curve (the edge goes along
+# as BREP), so the chords only need to stay well inside the elements along the edge.
+EXTRA_EDGE_CHORD_ERROR = 1e-3
+
+
+def extra_edge_items(mesh_obj):
+    """[(name for the user, Part.Edge in global coordinates)] of the mesh object's ExtraEdges,
+    in property order: each picked 'EdgeN', and every edge of a whole linked object (a
+    sketch, or any shape). Sketches keep their construction geometry out of their shape."""
+    items = []
+    for ref in getattr(mesh_obj, "ExtraEdges", []) or []:
+        obj, subs = ref[0], [s for s in _subnames(ref) if s]
+        try:
+            alive = obj is not None and obj.Document is not None
+        except Exception:  # a deleted object refuses every attribute
+            alive = False
+        if not alive:
+            raise MeshInputError("ExtraEdges of '%s' links a deleted object: remove it from the "
+                                 "extra edges" % mesh_obj.Label)
+        try:
+            shape = global_shape(obj)
+        except MeshInputError as e:
+            raise MeshInputError("ExtraEdges of '%s': %s" % (mesh_obj.Label, e)) from None
+        if not subs:
+            if not shape.Edges:
+                raise MeshInputError(
+                    "ExtraEdges of '%s' links '%s', which has no edges: link sketches or "
+                    "edges of shapes" % (mesh_obj.Label, obj.Label))
+            subs = ["Edge%d" % i for i in range(1, len(shape.Edges) + 1)]
+        for sub in subs:
+            number = sub[4:] if sub.startswith("Edge") else ""
+            if not number.isdigit():
+                raise MeshInputError(
+                    "ExtraEdges of '%s' names '%s' of '%s', which is not an edge: pick edges "
+                    "(EdgeN) or whole sketches" % (mesh_obj.Label, sub, obj.Label))
+            if not 1 <= int(number) <= len(shape.Edges):
+                raise MeshInputError(
+                    "ExtraEdges of '%s' names %s of '%s', which has only %d edges now (its "
+                    "shape changed): pick the edge again" % (mesh_obj.Label, sub, obj.Label,
+                                                             len(shape.Edges)))
+            items.append(("%s of '%s'" % (sub, obj.Label), shape.Edges[int(number) - 1]))
+    return items
+
+
+def edge_points(edge):
+    """Points of a polyline along edge: its ends for a straight edge, else chords within
+    EXTRA_EDGE_CHORD_ERROR of the edge's length of the curve."""
+    if edge.Curve.TypeId == "Part::GeomLine":
+        points = [edge.valueAt(edge.FirstParameter), edge.valueAt(edge.LastParameter)]
+    else:
+        points = edge.discretize(Deflection=EXTRA_EDGE_CHORD_ERROR * edge.Length)
+    out = []
+    for p in points:  # the core refuses a point repeated right after itself
+        if not out or (p - out[-1]).Length > 1e-12 * edge.Length:
+            out.append(p)
+    return [[p.x, p.y, p.z] for p in out]
+
+
+def extra_edge_polylines(mesh_obj):
+    """(job features.polylines, [name of polyline i]): one polyline per extra edge, with the
+    edge as BREP text so the core snaps mesh nodes onto the exact curve."""
+    polylines, names = [], []
+    for name, edge in extra_edge_items(mesh_obj):
+        if edge.isNull() or edge.Length <= 0:
+            raise MeshInputError("extra edge %s of '%s' has no length: remove it"
+                                 % (name, mesh_obj.Label))
+        polylines.append({"points": edge_points(edge), "brep": edge.exportBrepToString()})
+        names.append(name)
+    return polylines, names
+
+
+def name_polylines(text, names):
+    """Core message with 'features.polylines[i]' turned into the extra edge's name."""
+    import re
+
+    def named(match):
+        i = int(match.group(1))
+        if i < len(names):
+            return "extra edge %s (%s)" % (names[i], match.group(0))
+        return match.group(0)
+    return re.sub(r"features\.polylines\[(\d+)\]", named, text)
+
+
 def build_job(mesh_obj):
-    """(job dict, volume groups, [(obj, role, material id or None)]) for the mesh object."""
+    """(job dict, volume groups, [(obj, role, material id or None)], [name of each
+    features.polylines entry]) for the mesh object."""
     entries = priority_entries(mesh_obj.Inputs, mesh_obj.Cuts)
     if not mesh_obj.Inputs:
         raise MeshInputError(
@@ -317,12 +403,23 @@ def build_job(mesh_obj):
         for mid in by_key[key]:
             per_material.setdefault(str(mid), {}).update(sizes)
 
+    # SharpAngle 0 switches the automatic features (sharp edges, junctions) off; extra edges
+    # the user picked are kept either way.
+    polylines, polyline_names = extra_edge_polylines(mesh_obj)
+    sharp = _value(mesh_obj.SharpAngle)
+    if sharp > 0:
+        features = {"sharp_angle_deg": sharp, "junctions": bool(getattr(mesh_obj, "Junctions", True))}
+    elif polylines:
+        features = {"sharp_angle_deg": 0.0, "junctions": False}
+    else:
+        features = False
+    if polylines:
+        features["polylines"] = polylines
+
     job = {
         "inputs": job_inputs,
         "criteria": {"default": default, "materials": per_material},
-        "features": ({"sharp_angle_deg": _value(mesh_obj.SharpAngle),
-                      "junctions": bool(getattr(mesh_obj, "Junctions", True))}
-                     if _value(mesh_obj.SharpAngle) > 0 else False),
+        "features": features,
         "engine": str(getattr(mesh_obj, "Engine", "cgal")),
         "element_order": int(mesh_obj.ElementOrder),
         "optimize": {"perturb": bool(mesh_obj.Optimize), "exude": bool(mesh_obj.Optimize)},
@@ -338,4 +435,4 @@ def build_job(mesh_obj):
             job["output"]["report"] = mesh_obj.OutputReport
 
     groups = volume_groups(material_entries, materials, dict(getattr(mesh_obj, "InputMaterialNames", {})))
-    return job, groups, described
+    return job, groups, described, polyline_names

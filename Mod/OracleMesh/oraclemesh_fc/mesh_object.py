@@ -1,7 +1,7 @@
 """The OracleMesh FEM mesh object: a Fem::FemMeshObjectPython whose recompute runs the core.
 
 Its properties are the job (inputs in priority order, cuts, sizes, element order, sharp-edge
-angle); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
+angle, extra edges); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
 with the result, one volume group per material (see job.volume_groups). On any error the
 previous FemMesh stays as it was, the error is printed to the report view (and shown in a
 message box in the GUI) and execute() raises, so FreeCAD marks the object as failed.
@@ -10,8 +10,8 @@ import json
 
 import FreeCAD
 
-from .handoff import build_femmesh
-from .job import build_job, input_kinds
+from .handoff import build_femmesh, feature_edge_mid_nodes
+from .job import build_job, input_kinds, name_polylines
 from .runner import import_core, run_job
 
 TYPE = "Fem::OracleMesh"
@@ -51,7 +51,8 @@ PROPERTIES = (
      "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
      (2, 1, 2, 1)),
     ("App::PropertyAngle", "SharpAngle", "Mesh",
-     "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = off)",
+     "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = no "
+     "sharp edges and no junctions; extra edges are kept)",
      30.0),
     ("App::PropertyBool", "Optimize", "Mesh", "Remove slivers (perturb and exude)", True),
     ("App::PropertyInteger", "Seed", "Mesh", "Random seed (the same job gives the same mesh)", 0),
@@ -70,14 +71,20 @@ PROPERTIES = (
     ("App::PropertyMap", "InputMaterialNames", "Inputs",
      "Volume group name per input without a FEM material: key = input Name, value = a "
      "material name (group '<name>_Volumes')", None),
+    ("App::PropertyLinkSubList", "ExtraEdges", "Mesh",
+     "Extra curves kept as chains of mesh edges: picked edges (EdgeN) of any shape, and whole "
+     "sketches or shapes (all their edges); each must lie inside or on the meshed parts", None),
     ("App::PropertyIntegerList", "FeatureEdges", "Output",
      "Sharp and junction edges of the last mesh, as pairs of FemMesh node ids (drawn by the "
      "view)", None),
+    ("App::PropertyIntegerList", "FeatureEdgeMidNodes", "Output",
+     "FemMesh id of the mid node of each feature edge (quadratic meshes; empty for linear)",
+     None),
     ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
     ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
 )
 READ_ONLY = ("Status", "Report", "InputKinds")
-HIDDEN = ("FeatureEdges",)
+HIDDEN = ("FeatureEdges", "FeatureEdgeMidNodes")
 
 
 class OracleMeshProxy:
@@ -116,13 +123,15 @@ class OracleMeshProxy:
 
     def execute(self, obj):
         obj.InputKinds = input_kinds(obj)
+        polyline_names = []
         try:
-            job, groups, described = build_job(obj)
+            job, groups, described, polyline_names = build_job(obj)
             result = run_job(job, obj.Label)
             femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups)
         except Exception as e:
+            # The core names extra edges by their place in the job: say which edge it is.
             message = "OracleMesh '%s' failed, the previous mesh is kept: %s" % (
-                obj.Label, error_text(e))
+                obj.Label, name_polylines(error_text(e), polyline_names))
             obj.Status = message
             FreeCAD.Console.PrintError(message + "\n")
             if FreeCAD.GuiUp and not is_cancel(e):  # the user asked for it: no error box
@@ -137,6 +146,8 @@ class OracleMeshProxy:
             "groups": {g: ids for g, ids in groups},
         }
         obj.FeatureEdges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
+        obj.FeatureEdgeMidNodes = [m + 1 for m in feature_edge_mid_nodes(result.tets,
+                                                                         result.feature_edges)]
         obj.FemMesh = femmesh
         obj.Report = json.dumps(report, indent=1, sort_keys=True)
         obj.Status = "%d nodes, %d %s; groups: %s" % (
@@ -191,7 +202,23 @@ OPTION_PROPERTIES = {
     "seed": "Seed",
     "max_vertices": "MaxVertices",
     "time_limit": "TimeLimit",
+    "junctions": "Junctions",
 }
+
+
+def extra_edge_links(items):
+    """PropertyLinkSubList value of extra edges given as objects or (object, sub-names).
+
+    A whole object goes in bare: FreeCAD drops an (object, ()) pair with no sub-names."""
+    links = []
+    for item in items:
+        if isinstance(item, (tuple, list)):
+            obj, subs = item[0], item[1] if len(item) > 1 else ()
+            subs = [subs] if isinstance(subs, str) else [s for s in subs if s]
+            links.extend([(obj, s) for s in subs] if subs else [obj])
+        else:
+            links.append(item)
+    return links
 
 
 def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
@@ -200,11 +227,13 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     inputs: solids, compounds of solids or Mesh objects, highest priority first. cuts: regions removed from every input.
     analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
-    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no features),
-    optimize, seed, max_vertices, time_limit, material_sizes ({input object, Name or Label:
-    cell size or dict of criteria}), output ({"files": [...], "report": path}).
+    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
+    and junctions), junctions (bool), optimize, seed, max_vertices, time_limit,
+    material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
+    ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
+    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
     """
-    known = set(OPTION_PROPERTIES) | {"material_sizes", "output"}
+    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges"}
     unknown = sorted(set(job_options) - known)
     if unknown:
         raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
@@ -234,6 +263,7 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     output = job_options.get("output") or {}
     obj.OutputFiles = [str(f) for f in output.get("files", [])]
     obj.OutputReport = str(output.get("report", ""))
+    obj.ExtraEdges = extra_edge_links(job_options.get("extra_edges") or ())
     if analysis is not None:
         analysis.addObject(obj)
     return obj

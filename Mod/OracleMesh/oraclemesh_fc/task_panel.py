@@ -11,6 +11,7 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
 - Per-material criteria (cell size, facet distance, facet size, radius-edge ratio; empty =
   the global value), a global cell size and coarse / moderate / fine presets.
 - Engine, sharp-edge angle, junctions, element order, optimisation.
+- Extra edges kept as mesh edges: edges picked in the 3D view, whole sketches or shapes.
 - The report of the last mesh: tets and volume per material, dihedral angles, warnings (the
   core's, and small angles between the faces of an input, see input_checks.py).
 """
@@ -81,6 +82,9 @@ class TaskPanel:
         self.doc = mesh_obj.Document
         self.fem_materials = jobmod.fem_materials(mesh_obj)
         self.rows = self.rows_from_object()
+        # [(object, 'EdgeN' or '' for all its edges)], as the ExtraEdges property holds them
+        self.extra_edges = [(ref[0], sub) for ref in mesh_obj.ExtraEdges
+                            for sub in (jobmod._subnames(ref) or ("",))]
         self.form = self.build_form()
         self.load_options()
         self.refresh_inputs()
@@ -151,6 +155,8 @@ class TaskPanel:
         o.Junctions = self.junctions.isChecked()
         o.ElementOrder = self.element_order.currentData()
         o.Optimize = self.optimize.isChecked()
+        from .mesh_object import extra_edge_links
+        o.ExtraEdges = extra_edge_links(self.extra_edges)
 
     # ------------------------------------------------------------------ widgets
 
@@ -229,6 +235,23 @@ class TaskPanel:
         grid.addRow(self.optimize)
         layout.addWidget(box)
 
+        box = QtGui.QGroupBox("Extra edges (kept as mesh edges)")
+        v = QtGui.QVBoxLayout(box)
+        self.extra_list = QtGui.QListWidget()
+        self.extra_list.setToolTip("Edges picked in the 3D view and whole sketches or shapes "
+                                   "(all their edges); they must lie inside or on the parts")
+        self.extra_list.setSelectionMode(QtGui.QAbstractItemView.ExtendedSelection)
+        v.addWidget(self.extra_list)
+        buttons = QtGui.QHBoxLayout()
+        self.extra_add_button = QtGui.QPushButton("Add selection")
+        self.extra_remove_button = QtGui.QPushButton("Remove")
+        buttons.addWidget(self.extra_add_button)
+        buttons.addWidget(self.extra_remove_button)
+        v.addLayout(buttons)
+        self.extra_add_button.clicked.connect(self.add_extra_edges)
+        self.extra_remove_button.clicked.connect(self.remove_extra_edges)
+        layout.addWidget(box)
+
         actions = QtGui.QHBoxLayout()
         self.apply_button = QtGui.QPushButton("Apply")
         self.mesh_button = QtGui.QPushButton("Mesh")
@@ -260,6 +283,7 @@ class TaskPanel:
         self.junctions.setChecked(bool(o.Junctions))
         self.element_order.setCurrentIndex(max(self.element_order.findData(o.ElementOrder), 0))
         self.optimize.setChecked(bool(o.Optimize))
+        self.refresh_extra_edges()
 
     def material_choices(self):
         return [AUTO_MATERIAL] + [m.Label for m in self.fem_materials]
@@ -359,6 +383,42 @@ class TaskPanel:
         self.read_tables()
         del self.rows[i]
         self.refresh_inputs()
+
+    def refresh_extra_edges(self):
+        self.extra_list.clear()
+        for obj, sub in self.extra_edges:
+            self.extra_list.addItem("%s of '%s'" % (sub, obj.Label) if sub
+                                    else "'%s' (all edges)" % obj.Label)
+
+    def add_extra_edges(self):
+        """Edges picked in the 3D view, and whole objects with edges picked in the tree."""
+        skipped = []
+        for sel in FreeCADGui.Selection.getSelectionEx():
+            obj = sel.Object
+            if obj == self.obj:
+                continue
+            subs = [s for s in sel.SubElementNames if s]
+            picked = [(obj, s) for s in subs if s.startswith("Edge")]
+            skipped += ["%s of '%s'" % (s, obj.Label) for s in subs if not s.startswith("Edge")]
+            if not subs:
+                shape = getattr(obj, "Shape", None)
+                if shape is not None and not shape.isNull() and shape.Edges:
+                    picked = [(obj, "")]
+                else:
+                    skipped.append("'%s'" % obj.Label)
+            for item in picked:
+                if item not in self.extra_edges:
+                    self.extra_edges.append(item)
+        self.refresh_extra_edges()
+        if skipped:
+            self.report.setPlainText("Not added as extra edges (pick edges, or sketches and "
+                                     "shapes in the tree): %s" % ", ".join(skipped))
+
+    def remove_extra_edges(self):
+        rows = sorted({i.row() for i in self.extra_list.selectedIndexes()}, reverse=True)
+        for i in rows:
+            del self.extra_edges[i]
+        self.refresh_extra_edges()
 
     def apply_preset(self, name):
         self.cell_size.setValue(preferences.preset_cell_size(name, [r.obj for r in self.rows]))

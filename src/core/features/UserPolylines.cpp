@@ -7,6 +7,18 @@
 
 #include "Error.h"
 
+// OpenCASCADE after the project headers (its Handle macro breaks CGAL's).
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+
 namespace oraclemesh {
 
 namespace {
@@ -135,6 +147,53 @@ Point3 nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p) {
     if (distance(p, q) < distance(p, best)) best = q;
   }
   return best;
+}
+
+struct UserCurve::Data {
+  TopoDS_Edge edge;
+  std::string where;
+};
+
+UserCurve::UserCurve(std::unique_ptr<Data> data) : data_(std::move(data)) {}
+UserCurve::~UserCurve() = default;
+
+std::shared_ptr<const UserCurve> UserCurve::fromBrep(const std::string& text, const std::string& where) {
+  const std::string fix = ": give BREP text of one edge (Part.Edge.exportBrepToString()) or leave 'brep' out";
+  TopoDS_Shape shape;
+  try {
+    std::istringstream stream(text);
+    BRep_Builder builder;
+    BRepTools::Read(shape, stream, builder);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(where + " cannot be read by OpenCASCADE (" + failure.GetMessageString() + ")" + fix);
+  }
+  TopTools_IndexedMapOfShape edges;
+  if (!shape.IsNull()) TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+  if (edges.Extent() != 1) throw InputError(where + " holds " + std::to_string(edges.Extent()) + " edges" + fix);
+  const TopoDS_Edge edge = TopoDS::Edge(edges(1));
+  if (BRep_Tool::Degenerated(edge)) throw InputError(where + " is a degenerate edge (a point)" + fix);
+  auto data = std::make_unique<Data>();
+  data->edge = edge;
+  data->where = where;
+  return std::shared_ptr<const UserCurve>(new UserCurve(std::move(data)));
+}
+
+Point3 UserCurve::nearest(const Point3& p) const {
+  try {
+    // A fresh query per point: OpenCASCADE's curve adaptors cache evaluations, so sharing one
+    // between threads would not be safe.
+    BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), data_->edge,
+                                    Extrema_ExtFlag_MIN);
+    if (dist.IsDone() && dist.NbSolution() > 0) {
+      const gp_Pnt q = dist.PointOnShape2(1);
+      return {q.X(), q.Y(), q.Z()};
+    }
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed to project a point onto the edge of " + data_->where + " (" +
+                failure.GetMessageString() + ")");
+  }
+  throw Error("OpenCASCADE found no point of the edge of " + data_->where + " near (" + std::to_string(p[0]) + ", " +
+              std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")");
 }
 
 }  // namespace oraclemesh

@@ -2,6 +2,8 @@
 // The user's own constrained segments (job features.polylines; in FreeCAD, selected edges and
 // sketches), and the Rule Set Q step every mix of feature kinds needs (thesis §3.3): curves may
 // meet only at polyline ends, so crossings become shared vertices.
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "domain/HierarchicalOracle.h"
@@ -25,5 +27,21 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance);
 
 // Nearest point of a polyline (the user curve is the polyline itself).
 Point3 nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p);
+
+// The exact CAD edge a user polyline was sampled from (FreeCAD's extra edges): the polyline's
+// points lie on it, and mesh nodes between them are put onto it rather than onto the chords.
+class UserCurve {
+ public:
+  // BREP text holding exactly one edge; InputError naming `where` otherwise.
+  static std::shared_ptr<const UserCurve> fromBrep(const std::string& text, const std::string& where);
+  ~UserCurve();
+  // Nearest point of the edge (its ends included).
+  Point3 nearest(const Point3& p) const;
+
+ private:
+  struct Data;
+  explicit UserCurve(std::unique_ptr<Data> data);
+  std::unique_ptr<Data> data_;
+};
 
 }  // namespace oraclemesh

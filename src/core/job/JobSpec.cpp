@@ -248,8 +248,8 @@ static Point3 parsePoint(const json& p, const std::string& where) {
   return q;
 }
 
-// features.polylines: [[[x, y, z], [x, y, z], ...], ...] or [{"points": [...]}, ...].
-static std::vector<std::vector<Point3>> parsePolylines(const json& value) {
+// features.polylines: [[[x, y, z], [x, y, z], ...], ...] or [{"points": [...], "brep": "..."}, ...].
+static std::vector<std::vector<Point3>> parsePolylines(const json& value, std::vector<std::string>& curves) {
   const std::string usage =
       ": give a list of polylines, each a list of at least two [x, y, z] points in model units "
       "(or {\"points\": [...]})";
@@ -258,7 +258,11 @@ static std::vector<std::vector<Point3>> parsePolylines(const json& value) {
   for (size_t i = 0; i < value.size(); ++i) {
     const std::string where = "features.polylines[" + std::to_string(i) + "]";
     const json& item = value[i].is_object() && value[i].contains("points") ? value[i]["points"] : value[i];
-    if (value[i].is_object()) rejectUnknownKeys(value[i], {"points"}, where);
+    if (value[i].is_object()) rejectUnknownKeys(value[i], {"points", "brep"}, where);
+    const bool hasCurve = value[i].is_object() && value[i].contains("brep");
+    if (hasCurve && !value[i]["brep"].is_string())
+      throw InputError(where + ".brep must be BREP text of one edge (Part.Edge.exportBrepToString())");
+    curves.push_back(hasCurve ? value[i]["brep"].get<std::string>() : std::string());
     if (!item.is_array() || item.size() < 2) throw InputError(where + usage);
     std::vector<Point3> points;
     for (size_t k = 0; k < item.size(); ++k) {
@@ -307,14 +311,18 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     } else if (f.is_object()) {
       rejectUnknownKeys(f, {"sharp_angle_deg", "junctions", "polylines"}, "features");
       if (f.contains("sharp_angle_deg")) {
-        spec.sharp_angle_deg = positiveNumber(f["sharp_angle_deg"], "features.sharp_angle_deg");
-        if (spec.sharp_angle_deg >= 180) throw InputError("features.sharp_angle_deg must be below 180 degrees");
+        // 0 = no sharp B-rep edges (junctions and polylines as asked).
+        const json& angle = f["sharp_angle_deg"];
+        spec.sharp_angle_deg = angle.is_number() ? angle.get<double>() : -1;
+        if (!(spec.sharp_angle_deg >= 0 && spec.sharp_angle_deg < 180))
+          throw InputError("features.sharp_angle_deg = " + angle.dump() +
+                           " must be a number from 0 (no sharp edges) to below 180 degrees");
       }
       if (f.contains("junctions")) {
         if (!f["junctions"].is_boolean()) throw InputError("features.junctions must be true or false");
         spec.junctions = f["junctions"].get<bool>();
       }
-      if (f.contains("polylines")) spec.user_polylines = parsePolylines(f["polylines"]);
+      if (f.contains("polylines")) spec.user_polylines = parsePolylines(f["polylines"], spec.user_polyline_curves);
     } else {
       throw InputError("'features' must be false or an object like {\"sharp_angle_deg\": 30}");
     }

@@ -56,6 +56,10 @@ struct JobSpec {
   // features.polylines: the user's own constrained segments (e.g. load-patch outlines drawn
   // on a face, a crack front). Each has at least two distinct consecutive points.
   std::vector<std::vector<Point3>> user_polylines;
+  // Per user polyline: BREP text of the CAD edge it was sampled from ({"points": [...],
+  // "brep": "..."}, as FreeCAD sends its extra edges), else empty. Mesh nodes along such a
+  // polyline go onto the exact edge instead of the chords.
+  std::vector<std::string> user_polyline_curves;
   std::string engine = "cgal";  // "cgal" (Mesh_3) or "thesis" (Rule Set T)
   // Thesis engine only: which point of a cell decides its material ("circumcenter", Pons
   // 2007, or "barycenter", thesis §4.1), and points inserted before refinement.

@@ -167,6 +167,7 @@ struct CurveOrigin {
   int junction = -1;                               // junction curve index, then entry = edge = -1
   std::shared_ptr<const JunctionCurves> junctions;  // owns the junction edges for the run
   const std::vector<Point3>* user = nullptr;        // the job's polyline for a user polyline
+  std::shared_ptr<const UserCurve> user_curve;      // its exact CAD edge, when the job gave one
 };
 
 // The CGAL Mesh_3 settings of a job: the Mesh_3 engine's, and the sliver removal every
@@ -190,7 +191,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   double edgeSize = table.defaults.edge_size;
   for (const auto& [id, c] : table.per_material) edgeSize = std::min(edgeSize, c.edge_size);
   int nextCurve = 0;
-  for (size_t i = 0; i < oracle.entries().size(); ++i) {
+  for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
     const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[i].source.get());
     if (!solid) continue;
     FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize);
@@ -207,6 +208,10 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
   }
   clipped = removeCoincidentFeatures(clipped, oracle);
+  std::vector<std::shared_ptr<const UserCurve>> userCurves(job.user_polylines.size());
+  for (size_t i = 0; i < job.user_polyline_curves.size() && i < userCurves.size(); ++i)
+    if (!job.user_polyline_curves[i].empty())
+      userCurves[i] = UserCurve::fromBrep(job.user_polyline_curves[i], "features.polylines[" + std::to_string(i) + "].brep");
   if (!job.user_polylines.empty()) {
     const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize);
     clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
@@ -215,7 +220,8 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   }
   for (const FeaturePolyline& pl : clipped.polylines)
     origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
-                         pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr};
+                         pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr,
+                         pl.user >= 0 ? userCurves[pl.user] : nullptr};
   return clipped;
 }
 
@@ -242,7 +248,7 @@ struct SnapResult {
 BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveOrigin& origin, const Point3& p) {
   if (origin.junction >= 0 && origin.junctions) return origin.junctions->projectOnCurve(origin.junction, p);
   if (origin.user) {
-    const Point3 q = nearestOnPolyline(*origin.user, p);
+    const Point3 q = origin.user_curve ? origin.user_curve->nearest(p) : nearestOnPolyline(*origin.user, p);
     return {q, -1, distance(p, q)};
   }
   if (origin.entry < 0 || origin.edge < 0) return {};

@@ -90,6 +90,15 @@ def colour_pixels(path, colours):
     return counts
 
 
+def dark_pixels(path):
+    """Near-black pixels (the feature edges' colour) in a screenshot, every 2nd pixel in x
+    and y."""
+    from PySide import QtGui
+    image = QtGui.QImage(path)
+    return sum(QtGui.QColor(image.pixel(x, y)).value() < 60
+               for y in range(0, image.height(), 2) for x in range(0, image.width(), 2))
+
+
 def find_progress_dialog():
     from PySide import QtGui
     for w in QtGui.QApplication.topLevelWidgets():
@@ -206,6 +215,14 @@ def check(out):
     out["colours"] = colours
     out["colour_pixels"] = colour_pixels(shot, colours)
     out["element_colours"], out["edges_drawn"] = mesh.ViewObject.Proxy.shown
+    # The same view without the edge lines: what the lines add is what the user sees of them.
+    mesh.ViewObject.Proxy.edge_node.update([])
+    pump(0.3)
+    bare = os.path.join(workdir, "gui_mesh_without_edges.png")
+    view.saveImage(bare, 800, 600, "White")
+    out["dark_pixels"] = {"with_edges": dark_pixels(shot), "without_edges": dark_pixels(bare)}
+    mesh.ViewObject.Proxy.show(mesh)
+    pump(0.3)
 
     step("cancel during a long mesh")
     previous = mesh_state(mesh)
@@ -277,6 +294,35 @@ def check(out):
     out["after_errors_ok"] = panel.mesh()
     out["after_errors"] = mesh_state(mesh)
 
+    step("extra edges: a sketch from the tree, a plate edge added and removed, a face refused")
+    import Part
+    sketch = doc.addObject("Sketcher::SketchObject", "EdgeSketch")
+    sketch.Placement = FreeCAD.Placement(FreeCAD.Vector(0, 0, 10), FreeCAD.Rotation())
+    sketch.addGeometry(Part.LineSegment(FreeCAD.Vector(60, 10, 0), FreeCAD.Vector(90, 50, 0)))
+    doc.recompute()
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(sketch)
+    FreeCADGui.Selection.addSelection(plate, "Edge1")
+    FreeCADGui.Selection.addSelection(plate, "Face1")
+    panel.extra_add_button.click()
+    extra = {"listed": [panel.extra_list.item(i).text() for i in range(panel.extra_list.count())],
+             "refused": panel.report.toPlainText()}
+    panel.extra_list.setCurrentRow(1)
+    panel.extra_remove_button.click()
+    extra["after_remove"] = [panel.extra_list.item(i).text()
+                             for i in range(panel.extra_list.count())]
+    extra["mesh_ok"] = panel.mesh()
+    extra["property"] = [(o.Name, list(s)) for o, s in mesh.ExtraEdges]
+    nodes = mesh.FemMesh.Nodes
+    line = sketch.Shape.Edges[0]
+    ids = list(mesh.FeatureEdges)
+    on_line = [(a, b) for a, b in zip(ids[0::2], ids[1::2])
+               if max(line.distToShape(Part.Vertex(nodes[n]))[0] for n in (a, b)) < 1e-6 * 120]
+    extra["line_edges"] = len(on_line)
+    extra["line_covered"] = sum((nodes[a] - nodes[b]).Length for a, b in on_line)
+    extra["line_length"] = line.Length
+    out["extra_edges"] = extra
+
     step("drag and drop in the inputs table")
     from PySide import QtGui
     table = panel.inputs
@@ -323,6 +369,8 @@ def check(out):
     pump()
     out["reopened"] = task_panel.current is not None and \
         [r.obj.Name for r in task_panel.current.rows] == out["rows_swapped"]
+    out["reopened_extra_edges"] = [task_panel.current.extra_list.item(i).text()
+                                   for i in range(task_panel.current.extra_list.count())]
     task_panel.current.reject()
     pump()
 
