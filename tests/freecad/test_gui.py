@@ -184,7 +184,7 @@ def test_undo_and_preferences(gui):
     assert gui["undo"] == {"applied": 45.0, "after_undo": 30.0}
     assert gui["prefs_loaded"] == {"order": 2, "engine": "cgal"}
     assert gui["prefs_saved"]["ElementOrder"] == 1 and gui["prefs_saved"]["Preset"] == "coarse"
-    assert gui["thesis_engine_enabled"] is False  # listed, not selectable in this version
+    assert gui["thesis_engine_enabled"] is True
 
 
 @needs_gui

@@ -14,6 +14,8 @@ from .handoff import build_femmesh, feature_edge_mid_nodes
 from .job import build_job, input_kinds, name_polylines
 from .runner import import_core, run_job
 
+ENGINE_NAMES = ("cgal", "thesis")  # the job's "engine" values
+
 TYPE = "Fem::OracleMesh"
 
 
@@ -64,8 +66,9 @@ PROPERTIES = (
     ("App::PropertyString", "OutputReport", "Output",
      "Path of the JSON report the core also writes, optional", ""),
     ("App::PropertyEnumeration", "Engine", "Mesh",
-     "Meshing engine: cgal (CGAL Mesh_3); the thesis' Rule Set T engine is not in this version",
-     ["cgal"]),
+     "Meshing engine: cgal (CGAL Mesh_3 with protecting balls) or thesis (Rule Set T: constrained "
+     "segments, per-material radius-edge ratio)",
+     list(ENGINE_NAMES)),
     ("App::PropertyBool", "Junctions", "Mesh",
      "Keep the curves where inputs meet (material junctions) as mesh edges", True),
     ("App::PropertyMap", "InputMaterialNames", "Inputs",
@@ -112,6 +115,11 @@ class OracleMeshProxy:
 
     def onDocumentRestored(self, obj):
         self.add_properties(obj)
+        # Documents saved before an engine was added list fewer choices.
+        if list(obj.getEnumerationsOfProperty("Engine")) != list(ENGINE_NAMES):
+            chosen = obj.Engine
+            obj.Engine = list(ENGINE_NAMES)
+            obj.Engine = chosen
 
     def onChanged(self, obj, prop):
         # The user sees at once what a newly linked object is to the mesher. Not while a
@@ -203,6 +211,7 @@ OPTION_PROPERTIES = {
     "max_vertices": "MaxVertices",
     "time_limit": "TimeLimit",
     "junctions": "Junctions",
+    "engine": "Engine",
 }
 
 
@@ -228,7 +237,7 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
-    and junctions), junctions (bool), optimize, seed, max_vertices, time_limit,
+    and junctions), junctions (bool), engine ("cgal" or "thesis"), optimize, seed, max_vertices, time_limit,
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
     ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
     (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).

@@ -10,7 +10,7 @@ PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/OracleMesh"
 # size at 0, so the core derives them: diagonal / 15).
 PRESETS = (("automatic", None), ("coarse", 8.0), ("moderate", 15.0), ("fine", 30.0))
 ENGINES = (("cgal", "CGAL Mesh_3", True),
-           ("thesis", "Rule Set T (thesis) - not in this version", False))
+           ("thesis", "Rule Set T (thesis)", True))
 
 
 def params():
