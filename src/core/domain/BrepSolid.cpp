@@ -893,7 +893,12 @@ void BrepSolid::Impl::measureChordReach() {
         surface.D1(middle.X(), middle.Y(), point, du, dv);
         const double speed = std::min(du.Magnitude(), dv.Magnitude());
         if (!(speed > 1e-9)) continue;  // degenerate here: leave the chord unmeasured
-        const double reach = 1.5 * onCurve.Distance(middle) + tolerance / speed;
+        // A seam's polygon and parametric curve may be those of its two sides: compare
+        // them modulo the periods.
+        gp_XY gap = onCurve.XY() - middle.XY();
+        if (period[f][0] > 0) gap.SetX(gap.X() - period[f][0] * std::round(gap.X() / period[f][0]));
+        if (period[f][1] > 0) gap.SetY(gap.Y() - period[f][1] * std::round(gap.Y() / period[f][1]));
+        const double reach = 1.5 * gap.Modulus() + tolerance / speed;
         double& slot = reachOfChord[{std::min(nodes(i), nodes(i + 1)), std::max(nodes(i), nodes(i + 1))}];
         slot = std::max(slot, reach);
       }
@@ -1408,7 +1413,7 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
       // neighbour the segment passes through. An oblique triangle may have two crossings
       // over it: the face is left to OpenCASCADE.
       if (!seedOf(triangle, seed)) {
-        if (seed.crossed)        span.newtonOnly = false;
+        span.newtonOnly = false;
         span.seeds.clear();
         span.near.clear();
         return;
