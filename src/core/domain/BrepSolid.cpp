@@ -377,6 +377,7 @@ class BoxTree {
     nodes_.emplace_back();
     split(0, 0, static_cast<int>(items_.size()));
   }
+  bool empty() const { return nodes_.empty(); }
   const CGAL::Bbox_3& box() const { return nodes_.front().box; }
   // visit(item, t0, t1) for every box the segment meets, [t0, t1] its part of the segment.
   template <class Visit>
@@ -552,6 +553,57 @@ struct BrepSolid::Impl {
     double minorRadius = 0;
     double tanAngle = 0, cosAngle = 1;  // cone half-angle
     gp_Torus torus;
+    // Parameters (u, v) and a normal (not unit) of the point (x, y, z) of the surface, given
+    // in the frame; false at a pole or apex (no normal, several parameters).
+    bool parameters(double x, double y, double z, double tolerance, double& u, double& v, gp_XYZ& normal) const {
+      const double radial = std::hypot(x, y);
+      switch (kind) {
+        case Kind::Plane:
+          normal.SetCoord(0, 0, 1);
+          u = x;
+          v = y;
+          break;
+        case Kind::Cylinder:
+          normal.SetCoord(x, y, 0);
+          u = std::atan2(y, x);
+          v = z;
+          break;
+        case Kind::Sphere:
+          if (radial <= tolerance) return false;  // a pole
+          normal.SetCoord(x, y, z);
+          u = std::atan2(y, x);
+          v = std::atan2(z, radial);
+          break;
+        case Kind::Cone: {
+          const double r = radius + z * tanAngle;
+          if (std::abs(r) <= tolerance) return false;  // the apex
+          normal.SetCoord(x, y, -r * tanAngle);
+          // On the far nappe the radius is negative: the point is at u + pi.
+          u = r > 0 ? std::atan2(y, x) : std::atan2(-y, -x);
+          v = z / cosAngle;
+          break;
+        }
+        case Kind::Torus: {
+          if (radial <= tolerance) return false;
+          const double sum = x * x + y * y + z * z + radius * radius - minorRadius * minorRadius;
+          normal.SetCoord(sum * x - 2 * radius * radius * x, sum * y - 2 * radius * radius * y, sum * z);
+          // A spindle torus (minor radius above the major) also passes its axis: its inner
+          // part has a negative radial coordinate, and the point is at u + pi there.
+          const double outer = radial - radius, inner = -radial - radius, r2 = minorRadius * minorRadius;
+          if (std::abs(outer * outer + z * z - r2) <= std::abs(inner * inner + z * z - r2)) {
+            u = std::atan2(y, x);
+            v = std::atan2(z, outer);
+          } else {
+            u = std::atan2(-y, -x);
+            v = std::atan2(z, inner);
+          }
+          break;
+        }
+        case Kind::None:
+          return false;
+      }
+      return true;
+    }
   };
   std::vector<AnalyticSurface> analytic;
   // crossings(): the proxy triangles' boxes grown by their face's crossing band, in one tree
@@ -974,16 +1026,35 @@ void BrepSolid::Impl::findAnalyticSurfaces() {
       trianglesOfFace[f].push_back(static_cast<int>(id));
     }
   }
-  newtonFaceTree.build(std::move(newtonBoxes), std::move(newtonTriangles));
   analyticFaceTree.resize(faces.size());
   for (size_t f = 0; f < faces.size(); ++f) {
-    if (trianglesOfFace[f].empty()) {
-      analytic[f].kind = AnalyticSurface::Kind::None;  // no triangles to classify with
+    if (analytic[f].kind == AnalyticSurface::Kind::None) continue;
+    // The parameters the closed form gives must be the face's own (they are unless the
+    // location scales or mirrors the surface): checked at the triangulation's nodes.
+    const AnalyticSurface& s = analytic[f];
+    bool agrees = !trianglesOfFace[f].empty();  // else no triangles to classify with
+    for (int id : trianglesOfFace[f])
+      for (const gp_Pnt& node : newtonTriangle[id].node) {
+        const gp_XYZ local = node.XYZ() - s.frame.Location().XYZ();
+        double u, v;
+        gp_XYZ normal;
+        if (!s.parameters(local.Dot(s.frame.XDirection().XYZ()), local.Dot(s.frame.YDirection().XYZ()),
+                          local.Dot(s.frame.Direction().XYZ()), classifyTolerance, u, v, normal))
+          continue;
+        if (faceSurface[f]->Value(u, v).Distance(node) > 1e-6 * diagonal + 2 * maxShapeTolerance) agrees = false;
+      }
+    if (!agrees) {
+      analytic[f].kind = AnalyticSurface::Kind::None;  // Newton iteration answers instead
+      for (size_t i = 0; i < trianglesOfFace[f].size(); ++i) {
+        newtonBoxes.push_back(boxesOfFace[f][i]);
+        newtonTriangles.push_back(trianglesOfFace[f][i]);
+      }
       continue;
     }
     analyticFaceTree[f].build(std::move(boxesOfFace[f]), std::move(trianglesOfFace[f]));
     analyticFaces.push_back(static_cast<int>(f));
   }
+  newtonFaceTree.build(std::move(newtonBoxes), std::move(newtonTriangles));
 }
 
 void BrepSolid::Impl::measureCrossingBands() {
@@ -1243,61 +1314,13 @@ bool BrepSolid::Impl::analyticCrossings(const Point3& a, const Point3& d, double
     const double x = ox + w * dx, y = oy + w * dy, z = oz + w * dz;
     // The surface normal (gradient of the implicit equation) and the parameters at the root.
     gp_XYZ normal;
-    double u = 0, v = 0;
-    const double radial = std::hypot(x, y);
-    switch (s.kind) {
-      case Kind::Plane:
-        normal.SetCoord(0, 0, 1);
-        u = x;
-        v = y;
-        break;
-      case Kind::Cylinder:
-        normal.SetCoord(x, y, 0);
-        u = std::atan2(y, x);
-        v = z;
-        break;
-      case Kind::Sphere:
-        if (radial <= tolerance) return false;  // a pole
-        normal.SetCoord(x, y, z);
-        u = std::atan2(y, x);
-        v = std::atan2(z, radial);
-        break;
-      case Kind::Cone: {
-        const double r = s.radius + z * s.tanAngle;
-        if (std::abs(r) <= tolerance) return false;  // the apex
-        normal.SetCoord(x, y, -r * s.tanAngle);
-        // On the far nappe the radius is negative: the point is at u + pi.
-        u = r > 0 ? std::atan2(y, x) : std::atan2(-y, -x);
-        v = z / s.cosAngle;
-        break;
-      }
-      case Kind::Torus: {
-        if (radial <= tolerance) return false;
-        const double sum = x * x + y * y + z * z + s.radius * s.radius - s.minorRadius * s.minorRadius;
-        normal.SetCoord(sum * x - 2 * s.radius * s.radius * x, sum * y - 2 * s.radius * s.radius * y, sum * z);
-        // A spindle torus (minor radius above the major) also passes its axis: its inner
-        // part has a negative radial coordinate, and the point is at u + pi there.
-        const double outer = radial - s.radius, inner = -radial - s.radius, r2 = s.minorRadius * s.minorRadius;
-        if (std::abs(outer * outer + z * z - r2) <= std::abs(inner * inner + z * z - r2)) {
-          u = std::atan2(y, x);
-          v = std::atan2(z, outer);
-        } else {
-          u = std::atan2(-y, -x);
-          v = std::atan2(z, inner);
-        }
-        break;
-      }
-      case Kind::None:
-        return false;
-    }
+    double u, v;
+    if (!s.parameters(x, y, z, tolerance, u, v, normal)) return false;
     const double normalLength = normal.Modulus();
     const double lineNormal = (normal.X() * dx + normal.Y() * dy + normal.Z() * dz);
     // A grazing line: its two crossings merge into a touch that OpenCASCADE may call
     // tangent; leave those to it.
     if (!(std::abs(lineNormal) > 1e-3 * normalLength)) return false;
-    // The face's own parametrisation must agree with the frame's (it does unless the
-    // location scales or mirrors): else OpenCASCADE answers.
-    if (faceSurface[f]->Value(u, v).SquareDistance(gp_Pnt(point)) > tolerance * tolerance * 1e6) return false;
     // Near a boundary chord OpenCASCADE's classification decides (on the boundary, within
     // the tolerance, the crossing may also belong to the neighbour face): its intersector
     // answers for the face. Elsewhere the parametric triangles do.
@@ -1459,7 +1482,7 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
   };
   Traversal traversal{*this, SegmentBoxTest(a, b - a),
                       Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
-                      a, b - a, std::vector<int>(faces.size(), -1), found};
+                      a, b - a, std::vector<int>(newtonFaceTree.empty() ? 0 : faces.size(), -1), found};
   newtonFaceTree.onSegment(traversal.boxTest,
                            [&](int id, double t0, double t1) { traversal.intersection(static_cast<size_t>(id), t0, t1); });
   // Analytic faces are solved on the whole segment part in their box; their triangles are
@@ -1468,8 +1491,7 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
     double t0, t1;
     if (traversal.boxTest.meets(analyticFaceTree[f].box(), 0.0, t0, t1)) found.push_back({f, t0, t1});
   }
-  for (int f : facesWithoutTriangles)
-    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0, false, {}});
+  for (int f : facesWithoutTriangles) found.push_back({f, 0.0, 1.0, false, {}});  // in no tree
   return found;
 }
 
