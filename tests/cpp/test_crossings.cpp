@@ -3,6 +3,8 @@
 // hierarchical oracle's composite crossings against its own label() and a dense bisection.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
 
@@ -199,6 +201,122 @@ TEST(Crossings, BrepPrimitivesAgreeWithOcct) {
   // Sides: entering/leaving against the exact classifier.
   for (const auto& [a, b] : randomSegments(torus.bbox(), 100, 25))
     expectSidesMatch(torus, torus.crossings(a, b), a, b, 1e-6 * torus.bbox().diagonal());
+}
+
+// One segment against BRepIntCurveSurface_Inter (see test::compareWithReference, which
+// merges hits closer than 1e-7 x diagonal into one place); a line grazing a surface enters
+// and leaves closer than that, so hit for hit (same count, t, face) agrees as well. Returns
+// the crossings.
+std::vector<BoundaryCrossing> expectSegmentAgreesWithOcct(const BrepSolid& solid, const Point3& a, const Point3& b) {
+  const double diagonal = solid.bbox().diagonal(), length = distance(a, b), close = 1e-7 * diagonal;
+  test::ReferenceIntersector reference(solid.shape(), 1e-9 * diagonal);
+  const std::vector<BoundaryCrossing> ours = solid.crossings(a, b);
+  std::vector<test::ReferenceIntersector::Hit> hits;
+  for (const auto& hit : reference.hits(a, b))
+    if (!hit.tangent) hits.push_back(hit);
+  bool hitForHit = hits.size() == ours.size();
+  for (size_t i = 0; hitForHit && i < hits.size(); ++i)
+    hitForHit = std::abs(hits[i].t - ours[i].t) * length <= close && hits[i].face == ours[i].patch &&
+                hits[i].entering == ours[i].entering;
+  const test::CrossingComparison comparison = test::compareWithReference(ours, hits, length, close, true);
+  EXPECT_TRUE(hitForHit || (comparison.mismatch.empty() && comparison.contradictionsLeftOut == 0))
+      << solid.name() << ": segment (" << a[0] << ", " << a[1] << ", " << a[2] << ") -> (" << b[0] << ", " << b[1]
+      << ", " << b[2] << "): " << comparison.mismatch;
+  expectWellFormed(ours, a, b, 1e-9 * diagonal);
+  return ours;
+}
+
+TEST(Crossings, TangentAndNearTangentLinesOnACylinder) {
+  // Radius 5 around the z axis, z in [0, 20]; its seam lies at x = 5, y = 0.
+  BrepSolid cylinder(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 5, 20).Shape(), "cylinder");
+  // Touching the side along x = 5 (at the seam): a touch, no crossing.
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(cylinder, {5, -10, 7}, {5, 10, 7}).empty());
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(cylinder, {-10, 5, 7}, {10, 5, 7}).empty());
+  // Just outside: no crossing; just inside: two, where the closed form puts them.
+  // (BRepIntCurveSurface_Inter misses the pair 1e-4 deep, 0.06 apart, that OpenCASCADE's
+  // IntCurvesFace_Intersector finds.)
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(cylinder, {-10, 5 + 1e-6, 7}, {10, 5 + 1e-6, 7}).empty());
+  for (double depth : {1e-2, 1e-4}) {
+    const double y = 5 - depth, x = std::sqrt(25 - y * y);
+    const auto c = depth > 1e-3 ? expectSegmentAgreesWithOcct(cylinder, {-10, y, 7}, {10, y, 7})
+                                : cylinder.crossings({-10, y, 7}, {10, y, 7});
+    ASSERT_EQ(c.size(), 2u) << "depth " << depth;
+    EXPECT_NEAR(c[0].t, (10 - x) / 20, 1e-12);
+    EXPECT_NEAR(c[1].t, (10 + x) / 20, 1e-12);
+    EXPECT_TRUE(c[0].entering);
+    EXPECT_FALSE(c[1].entering);
+  }
+  // Along the axis through both caps.
+  EXPECT_EQ(expectSegmentAgreesWithOcct(cylinder, {0, 0, -5}, {0, 0, 25}).size(), 2u);
+  // Through the seam edge, through the top circle, and through the vertex where they meet:
+  // one crossing each, at the edge.
+  for (const auto& [a, b] : {std::pair<Point3, Point3>{{10, 0, 10}, {0, 0, 10}},
+                             std::pair<Point3, Point3>{{0, 10, 25}, {0, 0, 15}},
+                             std::pair<Point3, Point3>{{10, 0, 25}, {0, 0, 15}}}) {
+    const auto c = expectSegmentAgreesWithOcct(cylinder, a, b);
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_NEAR(c[0].t, 0.5, 1e-9);
+    EXPECT_TRUE(c[0].entering);
+  }
+}
+
+TEST(Crossings, GrazingLinesOnATorus) {
+  // Major radius 10, minor 3, around the z axis: the tube's top circle is at z = 3, its inner
+  // equator at radius 7.
+  BrepSolid torus(BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 10, 3).Shape(), "torus");
+  // Touching the top of the tube from above, and the inner equator from inside the tube.
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(torus, {-20, 10, 3}, {20, 10, 3}).empty());
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(torus, {-5, 7, 0}, {5, 7, 0}).empty());
+  // Grazing just below the top: two crossings 1.4 apart, on the torus (polished quartic
+  // roots). BRepIntCurveSurface_Inter misses this pair too.
+  const auto c = torus.crossings({-20, 10, 3 - 1e-4}, {20, 10, 3 - 1e-4});
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_NEAR(0.5 * (c[0].t + c[1].t), 0.5, 1e-9);
+  for (const BoundaryCrossing& x : c) EXPECT_LT(test::distanceToShape(x.point, torus.shape()), 1e-9);
+  // Through the hole along the axis: nothing; across the whole torus: four crossings.
+  EXPECT_TRUE(expectSegmentAgreesWithOcct(torus, {0, 0, -10}, {0, 0, 10}).empty());
+  EXPECT_EQ(expectSegmentAgreesWithOcct(torus, {-20, 0.5, 0.3}, {20, 0.5, 0.3}).size(), 4u);
+  // Lines grazing the tube's outside at random points and directions along its surface.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI);
+  for (int i = 0; i < 100; ++i) {
+    const double u = angle(rng), v = angle(rng), turn = angle(rng);
+    const gp_Dir radial(std::cos(u), std::sin(u), 0);
+    const gp_Pnt p(gp_XYZ(0, 0, 0) + (10 + 3 * std::cos(v)) * radial.XYZ() + gp_XYZ(0, 0, 3 * std::sin(v)));
+    const gp_Vec normal = gp_Vec(std::cos(v) * radial.XYZ() + gp_XYZ(0, 0, std::sin(v)));
+    const gp_Vec tangentU(-std::sin(u), std::cos(u), 0), tangentV = normal.Crossed(tangentU);
+    const gp_Vec along = std::cos(turn) * tangentU + std::sin(turn) * tangentV;
+    const Point3 touch{p.X(), p.Y(), p.Z()}, step{along.X() * 8, along.Y() * 8, along.Z() * 8};
+    expectSegmentAgreesWithOcct(torus, touch - step, touch + step);
+  }
+}
+
+TEST(Crossings, BSplineFacesAgreeWithOcct) {
+  // The same solids with every face converted to a B-spline surface: answered by Newton
+  // iteration from the proxy triangles instead of the closed form.
+  BrepSolid cylinder(
+      BRepBuilderAPI_NurbsConvert(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(1, 2, 3), gp_Dir(0, 1, 1)), 5, 20).Shape())
+          .Shape(),
+      "B-spline cylinder");
+  expectCrossingsAgreeWithOcct(cylinder, 400, 51);
+  BrepSolid sphere(BRepBuilderAPI_NurbsConvert(BRepPrimAPI_MakeSphere(gp_Pnt(1, 2, 3), 4).Shape()).Shape(),
+                   "B-spline sphere");
+  expectCrossingsAgreeWithOcct(sphere, 400, 52);
+  // (Not a B-spline torus: there OpenCASCADE's IntCurvesFace_Intersector, which crossings()
+  // falls back to for segments through the tube's rim, misses crossings that
+  // BRepIntCurveSurface_Inter finds, about one segment in 400, as before the closed form.)
+  // Lines across the B-spline cylinder's side at mid-height, perpendicular to its axis, from
+  // through the axis to grazing its side.
+  const gp_XYZ axis = gp_XYZ(0, 1, 1) / std::sqrt(2.0), across = gp_XYZ(0, 1, -1) / std::sqrt(2.0);
+  const gp_XYZ middle = gp_XYZ(1, 2, 3) + 10 * axis;
+  for (double offset : {0.0, 2.5, 4.9, 5 - 1e-2}) {
+    const gp_XYZ p = middle + offset * across;
+    const auto c = expectSegmentAgreesWithOcct(cylinder, {p.X() - 10, p.Y(), p.Z()}, {p.X() + 10, p.Y(), p.Z()});
+    ASSERT_EQ(c.size(), 2u) << "offset " << offset;
+    const double half = std::sqrt(25 - offset * offset);
+    EXPECT_NEAR(c[0].t, (10 - half) / 20, 1e-7);
+    EXPECT_NEAR(c[1].t, (10 + half) / 20, 1e-7);
+  }
 }
 
 TEST(Crossings, BrepEdgesAndVerticesGiveOneCrossing) {

@@ -10,6 +10,7 @@
 #include "domain/BrepSolid.h"
 
 #include <BRepAdaptor_Curve.hxx>
+#include <Geom2d_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -28,12 +29,15 @@
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IntAna_IntLinTorus.hxx>
 #include <IntCurvesFace_Intersector.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <gp_Lin.hxx>
+#include <gp_Torus.hxx>
+#include <gp_Ax3.hxx>
 #include <gp_Pnt2d.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
@@ -319,6 +323,156 @@ std::string describe(const std::string& name, const std::string& path) {
 
 // ------------------------------------------------------------------------------------------
 
+namespace {
+
+// Whether the segment a + t d, t in [0, 1], meets a box grown by a margin on every side (a
+// slab test). Growing the box by the margin contains the ball of that radius around it, so
+// this never rejects a box within the margin of the segment. The reciprocal direction is
+// computed once per segment: the test runs for every AABB node the segment passes.
+class SegmentBoxTest {
+ public:
+  SegmentBoxTest(const Point3& a, const Point3& d) : a_(a) {
+    for (int i = 0; i < 3; ++i) inverse_[i] = d[i] != 0.0 ? 1.0 / d[i] : 0.0;
+    for (int i = 0; i < 3; ++i) parallel_[i] = d[i] == 0.0;
+  }
+  bool meets(const CGAL::Bbox_3& box, double margin) const {
+    double t0, t1;
+    return meets(box, margin, t0, t1);
+  }
+  // Also gives the part [t0, t1] of the segment inside the grown box.
+  bool meets(const CGAL::Bbox_3& box, double margin, double& t0, double& t1) const {
+    t0 = 0.0;
+    t1 = 1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double lo = box.min(i) - margin, hi = box.max(i) + margin;
+      if (parallel_[i]) {
+        if (a_[i] < lo || a_[i] > hi) return false;
+        continue;
+      }
+      double ta = (lo - a_[i]) * inverse_[i], tb = (hi - a_[i]) * inverse_[i];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
+ private:
+  Point3 a_, inverse_;
+  bool parallel_[3];
+};
+
+
+// A bounding volume hierarchy over boxes (proxy triangles' boxes grown by their face's
+// crossing band): which boxes a segment passes through, which boxes hold a point. Built once,
+// then only read, so queries may run in parallel.
+class BoxTree {
+ public:
+  void build(std::vector<CGAL::Bbox_3> boxes, std::vector<int> items) {
+    boxes_ = std::move(boxes);
+    items_ = std::move(items);
+    nodes_.clear();
+    if (items_.empty()) return;
+    nodes_.emplace_back();
+    split(0, 0, static_cast<int>(items_.size()));
+  }
+  bool empty() const { return nodes_.empty(); }
+  const CGAL::Bbox_3& box() const { return nodes_.front().box; }
+  // visit(item, t0, t1) for every box the segment meets, [t0, t1] its part of the segment.
+  template <class Visit>
+  void onSegment(const SegmentBoxTest& segment, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    int stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      double t0, t1;
+      if (!segment.meets(node.box, 0.0, t0, t1)) continue;
+      if (node.count > 0) {
+        for (int i = node.first; i < node.first + node.count; ++i)
+          if (segment.meets(boxes_[i], 0.0, t0, t1)) visit(items_[i], t0, t1);
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = node.first + 1;
+      }
+    }
+  }
+  // visit(item) for every box holding p.
+  template <class Visit>
+  void atPoint(const gp_XYZ& p, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    int stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (!holds(node.box, p)) continue;
+      if (node.count > 0) {
+        for (int i = node.first; i < node.first + node.count; ++i)
+          if (holds(boxes_[i], p)) visit(items_[i]);
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = node.first + 1;
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    CGAL::Bbox_3 box;
+    int first = 0;  // leaf: first box; inner node: index of the first of its two children
+    int count = 0;  // boxes of a leaf, 0 for an inner node
+  };
+  static bool holds(const CGAL::Bbox_3& b, const gp_XYZ& p) {
+    return p.X() >= b.xmin() && p.X() <= b.xmax() && p.Y() >= b.ymin() && p.Y() <= b.ymax() && p.Z() >= b.zmin() &&
+           p.Z() <= b.zmax();
+  }
+  // Makes node `index` the root of boxes [begin, end): halves them at the median of the box
+  // centres along the widest axis (depth ~ log2 n, far below the stack size). The two
+  // children of a node are stored next to each other, so a node needs only the first index.
+  void split(int index, int begin, int end) {
+    CGAL::Bbox_3 box = boxes_[begin];
+    for (int i = begin + 1; i < end; ++i) box += boxes_[i];
+    nodes_[index].box = box;
+    if (end - begin <= 4) {
+      nodes_[index].first = begin;
+      nodes_[index].count = end - begin;
+      return;
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (box.max(k) - box.min(k) > box.max(axis) - box.min(axis)) axis = k;
+    std::vector<int> order(end - begin);
+    for (int i = begin; i < end; ++i) order[i - begin] = i;
+    const int middle = (end - begin) / 2;
+    std::nth_element(order.begin(), order.begin() + middle, order.end(), [&](int x, int y) {
+      return boxes_[x].min(axis) + boxes_[x].max(axis) < boxes_[y].min(axis) + boxes_[y].max(axis);
+    });
+    std::vector<CGAL::Bbox_3> sortedBoxes;
+    std::vector<int> sortedItems;
+    for (int i : order) {
+      sortedBoxes.push_back(boxes_[i]);
+      sortedItems.push_back(items_[i]);
+    }
+    std::copy(sortedBoxes.begin(), sortedBoxes.end(), boxes_.begin() + begin);
+    std::copy(sortedItems.begin(), sortedItems.end(), items_.begin() + begin);
+    const int children = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    nodes_.emplace_back();
+    nodes_[index].first = children;
+    nodes_[index].count = 0;
+    split(children, begin, begin + middle);
+    split(children + 1, begin + middle, end);
+  }
+  std::vector<CGAL::Bbox_3> boxes_;
+  std::vector<int> items_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace
+
 struct BrepSolid::Impl {
   std::string name;
   TopoDS_Shape shape;
@@ -359,7 +513,6 @@ struct BrepSolid::Impl {
   // edge, where the face reaches beyond the edge's polygon by the polygon's sagitta (a hole
   // in a planar face). The candidate test widens each face's band by that much.
   std::vector<double> crossingBand;
-  double crossingReach = 0;  // the widest crossingBand
   // crossings(): what a Newton iteration on the exact surface needs from each proxy triangle
   // (same order as proxyFaceOfTriangle). `regular`: it has surface parameters and the
   // surface has a normal all over it that keeps one side (no pole, no fold). `tilt`: the
@@ -374,8 +527,90 @@ struct BrepSolid::Impl {
     // No node on the boundary of the face's triangulation (face edges, seams, poles): the
     // parametric triangle lies inside the face's domain, no classification needed.
     bool interior = false;
+    // Edge k (node k to node k+1) bounds the face's kept triangles on one side only: a chord
+    // of a face edge, of a seam, or of a gap left by triangles collapsed at a pole. Only
+    // near such chords can the face's domain and its triangles' parametric union differ.
+    std::array<bool, 3> boundaryEdge{};
+    std::array<int, 3> corner{};  // node indices in the face's triangulation
+    // For a boundary chord on a face edge: how far (in the parameters) the face's domain may
+    // reach past it or fall short of it (the edge's parametric curve against the chord, with
+    // margins, plus the edge's tolerance); negative where unknown (a gap at a pole), then the
+    // 3D crossing band stands in.
+    std::array<double, 3> chordReach{-1, -1, -1};
   };
+  // Per face: periods of the parameters (0 when not periodic).
+  std::vector<std::array<double, 2>> period;
   std::vector<NewtonTriangle> newtonTriangle;
+  // crossings(): per face, how far the exact surface over a proxy triangle may be from it
+  // (the measured deviation with its margin, plus the face's tolerance).
+  std::vector<double> patchDeviation;
+  // crossings(): faces on a plane, cylinder, cone, sphere or torus are intersected with the
+  // segment's line in closed form; `kind` None sends a face to Newton iteration.
+  struct AnalyticSurface {
+    enum class Kind { None, Plane, Cylinder, Cone, Sphere, Torus } kind = Kind::None;
+    gp_Ax3 frame;          // the surface's own frame (location applied)
+    double radius = 0;     // cylinder, sphere; cone: at the frame's origin; torus: major
+    double minorRadius = 0;
+    double tanAngle = 0, cosAngle = 1;  // cone half-angle
+    gp_Torus torus;
+    // Parameters (u, v) and a normal (not unit) of the point (x, y, z) of the surface, given
+    // in the frame; false at a pole or apex (no normal, several parameters).
+    bool parameters(double x, double y, double z, double tolerance, double& u, double& v, gp_XYZ& normal) const {
+      const double radial = std::hypot(x, y);
+      switch (kind) {
+        case Kind::Plane:
+          normal.SetCoord(0, 0, 1);
+          u = x;
+          v = y;
+          break;
+        case Kind::Cylinder:
+          normal.SetCoord(x, y, 0);
+          u = std::atan2(y, x);
+          v = z;
+          break;
+        case Kind::Sphere:
+          if (radial <= tolerance) return false;  // a pole
+          normal.SetCoord(x, y, z);
+          u = std::atan2(y, x);
+          v = std::atan2(z, radial);
+          break;
+        case Kind::Cone: {
+          const double r = radius + z * tanAngle;
+          if (std::abs(r) <= tolerance) return false;  // the apex
+          normal.SetCoord(x, y, -r * tanAngle);
+          // On the far nappe the radius is negative: the point is at u + pi.
+          u = r > 0 ? std::atan2(y, x) : std::atan2(-y, -x);
+          v = z / cosAngle;
+          break;
+        }
+        case Kind::Torus: {
+          if (radial <= tolerance) return false;
+          const double sum = x * x + y * y + z * z + radius * radius - minorRadius * minorRadius;
+          normal.SetCoord(sum * x - 2 * radius * radius * x, sum * y - 2 * radius * radius * y, sum * z);
+          // A spindle torus (minor radius above the major) also passes its axis: its inner
+          // part has a negative radial coordinate, and the point is at u + pi there.
+          const double outer = radial - radius, inner = -radial - radius, r2 = minorRadius * minorRadius;
+          if (std::abs(outer * outer + z * z - r2) <= std::abs(inner * inner + z * z - r2)) {
+            u = std::atan2(y, x);
+            v = std::atan2(z, outer);
+          } else {
+            u = std::atan2(-y, -x);
+            v = std::atan2(z, inner);
+          }
+          break;
+        }
+        case Kind::None:
+          return false;
+      }
+      return true;
+    }
+  };
+  std::vector<AnalyticSurface> analytic;
+  // crossings(): the proxy triangles' boxes grown by their face's crossing band, in one tree
+  // for the faces solved by Newton iteration and one tree per analytic face.
+  BoxTree newtonFaceTree;
+  std::vector<BoxTree> analyticFaceTree;
+  std::vector<int> analyticFaces;
 
   // Exact crossings. An IntCurvesFace_Intersector keeps its results in itself, so like the
   // classifiers each query leases a set (one per face, built on first use) from a pool.
@@ -387,6 +622,11 @@ struct BrepSolid::Impl {
     // (same class, same tolerance), for the Newton solutions.
     std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> domainByFace;
   };
+  BRepTopAdaptor_FClass2d& domainOf(FaceIntersectors& lease, int face) const {
+    auto& domain = lease.domainByFace[face];
+    if (!domain) domain = std::make_unique<BRepTopAdaptor_FClass2d>(faces[face], classifyTolerance);
+    return *domain;
+  }
   mutable std::mutex intersectorMutex;
   mutable std::vector<std::unique_ptr<FaceIntersectors>> idleIntersectors;
 
@@ -395,6 +635,15 @@ struct BrepSolid::Impl {
   Kernel::Triangle_3 proxyTriangle(ProxyMesh::Face_index f) const;
   void buildProxy();
   void measureCrossingBands();
+  void findAnalyticSurfaces();
+  void measureChordReach();
+  // Whether parameters (u, v) of a point p of `face` lie in the face's domain, from the
+  // face's parametric triangles holding p's neighbourhood: Unsure within the reach of a
+  // boundary chord; else In when a triangle holds (u, v) (which is then moved into that
+  // triangle's period), else Out.
+  enum class Domain { In, Out, Unsure };
+  Domain domainByTriangles(const gp_Pnt& p, int face, double& u, double& v, const size_t* triangles,
+                           size_t count) const;
   bool classifyExact(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
   // A face the segment may cross, and the part [t0, t1] of the segment where it may.
@@ -414,11 +663,36 @@ struct BrepSolid::Impl {
     // answer for this face.
     bool newtonOnly = true;
     std::vector<NewtonSeed> seeds;
+    // Every proxy triangle of the face whose box, grown by the face's crossing band, meets
+    // the segment: the parametric triangle holding any crossing of the face is among them,
+    // and so is every boundary chord within the band of a crossing.
+    std::vector<size_t> near;
   };
+  // Closed-form crossings of the segment with an analytic face: false when unsure (a grazing
+  // or an end crossing, the line on the surface, a crossing near the face's boundary), the
+  // face is then left to OpenCASCADE; else `found` holds the crossings (w along the line, u, v).
+  struct LineHit {
+    double w, u, v;
+  };
+  struct FaceIntersectors;
+  bool analyticCrossings(const Point3& a, const Point3& d, double length, int face, std::vector<LineHit>& found,
+                         std::vector<size_t>& near, FaceIntersectors& lease) const;
   // The crossing of the segment with the surface over a seed's triangle, by Newton
   // iteration on S(u,v) = a + t (b - a). Unsure: no convergence, near-tangent, near an end
   // of the segment, or a solution off the triangle. None: the crossing is beyond an end.
-  enum class NewtonResult { Crossing, None, Unsure };
+  // Crossing: on the seed's triangle. OffTriangle: a crossing of the line (t, uv set) over
+  // some other parametric triangle.
+  enum class NewtonResult { Crossing, None, OffTriangle, Unsure };
+  // A line along `direction` steeper than 90 degrees minus the triangle's tilt (and a 10
+  // degree margin): it crosses the surface patch over the triangle at most once and cannot
+  // turn tangent to it there.
+  bool steep(const NewtonTriangle& triangle, const gp_XYZ& direction) const {
+    if (!triangle.regular) return false;
+    const gp_XYZ p0 = triangle.node[0].XYZ();
+    const gp_XYZ normal = (triangle.node[1].XYZ() - p0).Crossed(triangle.node[2].XYZ() - p0);
+    const double steepness = std::abs(direction.Dot(normal)) / (direction.Modulus() * normal.Modulus());
+    return std::acos(std::min(1.0, steepness)) + triangle.tilt < (80.0 / 180.0) * M_PI;
+  }
   NewtonResult newtonCrossing(const Point3& a, const Point3& d, double length, int face, const NewtonSeed& seed,
                               double& t, gp_Pnt2d& uv) const;
   std::vector<FaceSpan> facesNearSegment(const Point3& a, const Point3& b) const;
@@ -511,6 +785,8 @@ void BrepSolid::Impl::buildProxy() {
       for (const auto& [e, n] : use)
         if (n != 2) boundaryNode[e.first] = boundaryNode[e.second] = 1;
     }
+    const size_t firstTriangle = newtonTriangle.size();
+    std::vector<std::array<int, 3>> keptCorners;  // triangulation nodes of the kept triangles
     for (int t = 1; t <= tri->NbTriangles(); ++t) {
       int a, b, c;
       tri->Triangle(t).Get(a, b, c);
@@ -524,6 +800,8 @@ void BrepSolid::Impl::buildProxy() {
       proxyFaceOfTriangle.push_back(static_cast<int>(f));
       NewtonTriangle& seedTriangle = newtonTriangle.emplace_back();
       seedTriangle.node = {nodes[a], nodes[b], nodes[c]};
+      keptCorners.push_back({a, b, c});
+      seedTriangle.corner = {a, b, c};
       for (auto [u, v] : {std::pair{ids[a], ids[b]}, std::pair{ids[b], ids[c]}, std::pair{ids[c], ids[a]}})
         ++edgeUse[{std::min(u, v), std::max(u, v)}];
       if (tri->HasUVNodes()) {
@@ -577,6 +855,17 @@ void BrepSolid::Impl::buildProxy() {
         }
       }
     }
+    // Chords used by one kept triangle only (by triangulation node, so that a seam's two
+    // sides stay apart).
+    std::map<std::pair<int, int>, int> keptEdgeUse;
+    for (const auto& corners : keptCorners)
+      for (int k = 0; k < 3; ++k)
+        ++keptEdgeUse[{std::min(corners[k], corners[(k + 1) % 3]), std::max(corners[k], corners[(k + 1) % 3])}];
+    for (size_t i = 0; i < keptCorners.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const int p = keptCorners[i][k], q = keptCorners[i][(k + 1) % 3];
+        newtonTriangle[firstTriangle + i].boundaryEdge[k] = keptEdgeUse[{std::min(p, q), std::max(p, q)}] == 1;
+      }
   }
   // Ray parity only needs every tessellation edge to be used an even number of times (a
   // closed surface mod 2): BRepMesh sometimes folds a B-spline face onto itself, which uses
@@ -590,6 +879,7 @@ void BrepSolid::Impl::buildProxy() {
   // A badly parametrised face deviates more than the rest; keeping its band to itself keeps
   // the exact (slow) queries near that face only.
   faceBand.resize(faces.size());
+  patchDeviation.resize(faces.size());
   proxy.deflection = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
     // The face's own tolerance (its edges' and vertices' included), not the model's largest:
@@ -601,6 +891,7 @@ void BrepSolid::Impl::buildProxy() {
     for (TopExp_Explorer ex(faces[f], TopAbs_VERTEX); ex.More(); ex.Next())
       tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
     const double h = 1.5 * measuredOfFace[f] + tolerance;
+    patchDeviation[f] = h;
     proxy.deflection = std::max(proxy.deflection, h);
     faceBand[f] = 2 * h + 1e-9 * diagonal;
   }
@@ -615,6 +906,155 @@ void BrepSolid::Impl::buildProxy() {
   if (proxy.usable) proxySide = std::make_unique<ProxySide>(*proxyTree);
   for (ProxyMesh::Face_index f : proxyMesh.faces()) proxyTriangleBox.push_back(proxyTriangle(f).bbox());
   measureCrossingBands();
+  measureChordReach();
+  findAnalyticSurfaces();
+}
+
+void BrepSolid::Impl::measureChordReach() {
+  std::vector<std::vector<size_t>> trianglesOfFace(faces.size());
+  for (size_t id = 0; id < proxyFaceOfTriangle.size(); ++id) trianglesOfFace[proxyFaceOfTriangle[id]].push_back(id);
+  period.assign(faces.size(), {0.0, 0.0});
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const BRepAdaptor_Surface surface(faces[f], Standard_True);
+    if (surface.IsUPeriodic()) period[f][0] = surface.UPeriod();
+    if (surface.IsVPeriodic()) period[f][1] = surface.VPeriod();
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
+    if (tri.IsNull() || !tri->HasUVNodes()) continue;
+    // Parametric sagitta of each chord of each edge: the edge's parametric curve at the middle
+    // parameter against the chord's middle; plus the edge's tolerance in parameter units.
+    std::map<std::pair<int, int>, double> reachOfChord;
+    for (TopExp_Explorer ex(faces[f], TopAbs_EDGE); ex.More(); ex.Next()) {
+      const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
+      TopLoc_Location edgeLoc;
+      const Handle(Poly_PolygonOnTriangulation) polygon = BRep_Tool::PolygonOnTriangulation(edge, tri, edgeLoc);
+      if (polygon.IsNull() || polygon->Parameters().IsNull()) continue;
+      double first, last;
+      const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, faces[f], first, last);
+      if (pcurve.IsNull()) continue;
+      const double tolerance = 2 * BRep_Tool::Tolerance(edge) + classifyTolerance;
+      const TColStd_Array1OfInteger& nodes = polygon->Nodes();
+      const TColStd_Array1OfReal& parameters = polygon->Parameters()->Array1();
+      for (int i = nodes.Lower(); i < nodes.Upper(); ++i) {
+        const gp_Pnt2d p0 = tri->UVNode(nodes(i)), p1 = tri->UVNode(nodes(i + 1));
+        const gp_Pnt2d middle((p0.XY() + p1.XY()) / 2);
+        const gp_Pnt2d onCurve = pcurve->Value(0.5 * (parameters(i) + parameters(i + 1)));
+        // A 3D tolerance in parameters: divided by the smaller speed of the parametrisation.
+        gp_Pnt point;
+        gp_Vec du, dv;
+        surface.D1(middle.X(), middle.Y(), point, du, dv);
+        const double speed = std::min(du.Magnitude(), dv.Magnitude());
+        if (!(speed > 1e-9)) continue;  // degenerate here: leave the chord unmeasured
+        // A seam's polygon and parametric curve may be those of its two sides: compare
+        // them modulo the periods.
+        gp_XY gap = onCurve.XY() - middle.XY();
+        if (period[f][0] > 0) gap.SetX(gap.X() - period[f][0] * std::round(gap.X() / period[f][0]));
+        if (period[f][1] > 0) gap.SetY(gap.Y() - period[f][1] * std::round(gap.Y() / period[f][1]));
+        const double reach = 1.5 * gap.Modulus() + tolerance / speed;
+        double& slot = reachOfChord[{std::min(nodes(i), nodes(i + 1)), std::max(nodes(i), nodes(i + 1))}];
+        slot = std::max(slot, reach);
+      }
+    }
+    for (size_t id : trianglesOfFace[f]) {
+      NewtonTriangle& triangle = newtonTriangle[id];
+      for (int k = 0; k < 3; ++k) {
+        if (!triangle.boundaryEdge[k]) continue;
+        const int p = triangle.corner[k], q = triangle.corner[(k + 1) % 3];
+        const auto it = reachOfChord.find({std::min(p, q), std::max(p, q)});
+        if (it != reachOfChord.end()) triangle.chordReach[k] = it->second;
+      }
+    }
+  }
+}
+
+void BrepSolid::Impl::findAnalyticSurfaces() {
+  analytic.assign(faces.size(), {});
+  for (size_t f = 0; f < faces.size(); ++f) {
+    // The closed form classifies its solutions by the face's parametric triangles.
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(faces[f], loc);
+    if (tri.IsNull() || !tri->HasUVNodes()) continue;
+    const BRepAdaptor_Surface surface(faces[f], Standard_True);  // location applied
+    AnalyticSurface& s = analytic[f];
+    switch (surface.GetType()) {
+      case GeomAbs_Plane:
+        s.kind = AnalyticSurface::Kind::Plane;
+        s.frame = surface.Plane().Position();
+        break;
+      case GeomAbs_Cylinder:
+        s.kind = AnalyticSurface::Kind::Cylinder;
+        s.frame = surface.Cylinder().Position();
+        s.radius = surface.Cylinder().Radius();
+        break;
+      case GeomAbs_Cone:
+        s.kind = AnalyticSurface::Kind::Cone;
+        s.frame = surface.Cone().Position();
+        s.radius = surface.Cone().RefRadius();
+        s.tanAngle = std::tan(surface.Cone().SemiAngle());
+        s.cosAngle = std::cos(surface.Cone().SemiAngle());
+        break;
+      case GeomAbs_Sphere:
+        s.kind = AnalyticSurface::Kind::Sphere;
+        s.frame = surface.Sphere().Position();
+        s.radius = surface.Sphere().Radius();
+        break;
+      case GeomAbs_Torus:
+        s.kind = AnalyticSurface::Kind::Torus;
+        s.torus = surface.Torus();
+        s.frame = s.torus.Position();
+        s.radius = s.torus.MajorRadius();
+        s.minorRadius = s.torus.MinorRadius();
+        break;
+      default:
+        break;
+    }
+  }
+  std::vector<std::vector<CGAL::Bbox_3>> boxesOfFace(faces.size());
+  std::vector<std::vector<int>> trianglesOfFace(faces.size());
+  std::vector<CGAL::Bbox_3> newtonBoxes;
+  std::vector<int> newtonTriangles;
+  for (size_t id = 0; id < proxyFaceOfTriangle.size(); ++id) {
+    const int f = proxyFaceOfTriangle[id];
+    const double m = crossingBand[f];
+    const CGAL::Bbox_3& b = proxyTriangleBox[id];
+    const CGAL::Bbox_3 grown(b.xmin() - m, b.ymin() - m, b.zmin() - m, b.xmax() + m, b.ymax() + m, b.zmax() + m);
+    if (analytic[f].kind == AnalyticSurface::Kind::None) {
+      newtonBoxes.push_back(grown);
+      newtonTriangles.push_back(static_cast<int>(id));
+    } else {
+      boxesOfFace[f].push_back(grown);
+      trianglesOfFace[f].push_back(static_cast<int>(id));
+    }
+  }
+  analyticFaceTree.resize(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (analytic[f].kind == AnalyticSurface::Kind::None) continue;
+    // The parameters the closed form gives must be the face's own (they are unless the
+    // location scales or mirrors the surface): checked at the triangulation's nodes.
+    const AnalyticSurface& s = analytic[f];
+    bool agrees = !trianglesOfFace[f].empty();  // else no triangles to classify with
+    for (int id : trianglesOfFace[f])
+      for (const gp_Pnt& node : newtonTriangle[id].node) {
+        const gp_XYZ local = node.XYZ() - s.frame.Location().XYZ();
+        double u, v;
+        gp_XYZ normal;
+        if (!s.parameters(local.Dot(s.frame.XDirection().XYZ()), local.Dot(s.frame.YDirection().XYZ()),
+                          local.Dot(s.frame.Direction().XYZ()), classifyTolerance, u, v, normal))
+          continue;
+        if (faceSurface[f]->Value(u, v).Distance(node) > 1e-6 * diagonal + 2 * maxShapeTolerance) agrees = false;
+      }
+    if (!agrees) {
+      analytic[f].kind = AnalyticSurface::Kind::None;  // Newton iteration answers instead
+      for (size_t i = 0; i < trianglesOfFace[f].size(); ++i) {
+        newtonBoxes.push_back(boxesOfFace[f][i]);
+        newtonTriangles.push_back(trianglesOfFace[f][i]);
+      }
+      continue;
+    }
+    analyticFaceTree[f].build(std::move(boxesOfFace[f]), std::move(trianglesOfFace[f]));
+    analyticFaces.push_back(static_cast<int>(f));
+  }
+  newtonFaceTree.build(std::move(newtonBoxes), std::move(newtonTriangles));
 }
 
 void BrepSolid::Impl::measureCrossingBands() {
@@ -648,8 +1088,6 @@ void BrepSolid::Impl::measureCrossingBands() {
     // a margin as in the face bands.
     crossingBand[f] = faceBand[f] + 1.5 * sagitta;
   }
-  crossingReach = 0;
-  for (double band : crossingBand) crossingReach = std::max(crossingReach, band);
 }
 
 Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const {
@@ -735,47 +1173,165 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
   return best;
 }
 
-namespace {
-
-// Whether the segment a + t d, t in [0, 1], meets a box grown by a margin on every side (a
-// slab test). Growing the box by the margin contains the ball of that radius around it, so
-// this never rejects a box within the margin of the segment. The reciprocal direction is
-// computed once per segment: the test runs for every AABB node the segment passes.
-class SegmentBoxTest {
- public:
-  SegmentBoxTest(const Point3& a, const Point3& d) : a_(a) {
-    for (int i = 0; i < 3; ++i) inverse_[i] = d[i] != 0.0 ? 1.0 / d[i] : 0.0;
-    for (int i = 0; i < 3; ++i) parallel_[i] = d[i] == 0.0;
-  }
-  bool meets(const CGAL::Bbox_3& box, double margin) const {
-    double t0, t1;
-    return meets(box, margin, t0, t1);
-  }
-  // Also gives the part [t0, t1] of the segment inside the grown box.
-  bool meets(const CGAL::Bbox_3& box, double margin, double& t0, double& t1) const {
-    t0 = 0.0;
-    t1 = 1.0;
-    for (int i = 0; i < 3; ++i) {
-      const double lo = box.min(i) - margin, hi = box.max(i) + margin;
-      if (parallel_[i]) {
-        if (a_[i] < lo || a_[i] > hi) return false;
+BrepSolid::Impl::Domain BrepSolid::Impl::domainByTriangles(const gp_Pnt& p, int face, double& u, double& v,
+                                                           const size_t* triangles, size_t count) const {
+  const double uPeriod = period[face][0], vPeriod = period[face][1];
+  const double band = crossingBand[face];
+  bool inside = false;
+  double insideU = u, insideV = v;
+  for (size_t i = 0; i < count; ++i) {
+    const NewtonTriangle& triangle = newtonTriangle[triangles[i]];
+    const gp_XY p0 = triangle.uv[0].XY(), e1 = triangle.uv[1].XY() - p0, e2 = triangle.uv[2].XY() - p0;
+    // (u, v) in the period of this triangle's parameters.
+    double uu = u, vv = v;
+    if (uPeriod > 0) uu += uPeriod * std::round((p0.X() + (e1.X() + e2.X()) / 3 - u) / uPeriod);
+    if (vPeriod > 0) vv += vPeriod * std::round((p0.Y() + (e1.Y() + e2.Y()) / 3 - v) / vPeriod);
+    const gp_XY q(uu, vv);
+    for (int k = 0; k < 3; ++k) {
+      if (!triangle.boundaryEdge[k]) continue;
+      if (triangle.chordReach[k] < 0) {
+        const gp_XYZ s0 = triangle.node[k].XYZ(), chord = triangle.node[(k + 1) % 3].XYZ() - s0;
+        const double lengthSquared = chord.SquareModulus();
+        const double along = lengthSquared > 0 ? std::clamp((p.XYZ() - s0).Dot(chord) / lengthSquared, 0.0, 1.0) : 0.0;
+        if ((p.XYZ() - (s0 + along * chord)).SquareModulus() <= band * band) return Domain::Unsure;
         continue;
       }
-      double ta = (lo - a_[i]) * inverse_[i], tb = (hi - a_[i]) * inverse_[i];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-      if (t0 > t1) return false;
+      const gp_XY s0 = triangle.uv[k].XY(), chord = triangle.uv[(k + 1) % 3].XY() - s0;
+      const double lengthSquared = chord.SquareModulus();
+      const double along = lengthSquared > 0 ? std::clamp((q - s0).Dot(chord) / lengthSquared, 0.0, 1.0) : 0.0;
+      if ((q - (s0 + along * chord)).SquareModulus() <= triangle.chordReach[k] * triangle.chordReach[k])
+        return Domain::Unsure;
     }
-    return true;
+    if (inside) continue;
+    const double area = e1.Crossed(e2);
+    if (area == 0) continue;
+    const gp_XY r = q - p0;
+    const double w1 = r.Crossed(e2) / area, w2 = e1.Crossed(r) / area;
+    const double slack = -1e-9;  // a point on an edge shared by two triangles is in either
+    if (w1 >= slack && w2 >= slack && 1 - w1 - w2 >= slack) {
+      inside = true;
+      insideU = uu;
+      insideV = vv;
+    }
   }
+  if (!inside) return Domain::Out;
+  u = insideU;
+  v = insideV;
+  return Domain::In;
+}
 
- private:
-  Point3 a_, inverse_;
-  bool parallel_[3];
-};
-
-}  // namespace
+bool BrepSolid::Impl::analyticCrossings(const Point3& a, const Point3& d, double length, int f,
+                                        std::vector<LineHit>& found, std::vector<size_t>& near,
+                                        FaceIntersectors& lease) const {
+  const AnalyticSurface& s = analytic[f];
+  using Kind = AnalyticSurface::Kind;
+  const gp_XYZ X = s.frame.XDirection().XYZ(), Y = s.frame.YDirection().XYZ(), Z = s.frame.Direction().XYZ();
+  const gp_XYZ dir = gp_XYZ(d[0], d[1], d[2]) / length;
+  const gp_XYZ o = gp_XYZ(a[0], a[1], a[2]) - s.frame.Location().XYZ();
+  // The line in the surface's frame: (ox, oy, oz) + w (dx, dy, dz), w the distance from a.
+  const double ox = o.Dot(X), oy = o.Dot(Y), oz = o.Dot(Z);
+  const double dx = dir.Dot(X), dy = dir.Dot(Y), dz = dir.Dot(Z);
+  const double tolerance = classifyTolerance;
+  std::array<double, 4> roots;
+  int rootCount = 0;
+  // Roots of A w^2 + B w + C (A != 0), without cancellation; none when the line misses (a
+  // tangent line's double root is a touch, dropped like OpenCASCADE's tangent points).
+  auto quadratic = [&](double A, double B, double C) {
+    const double discriminant = B * B - 4 * A * C;
+    if (discriminant < 0) return;
+    const double q = -0.5 * (B + std::copysign(std::sqrt(discriminant), B));
+    if (q != 0) {
+      roots[rootCount++] = q / A;
+      roots[rootCount++] = C / q;
+    } else {
+      roots[rootCount++] = 0;  // B = C = 0: a double root at a, an end crossing
+    }
+  };
+  switch (s.kind) {
+    case Kind::Plane:
+      if (std::abs(dz) <= 1e-12) {
+        if (std::abs(oz) <= tolerance) return false;  // the line lies in the plane
+        break;
+      }
+      roots[rootCount++] = -oz / dz;
+      break;
+    case Kind::Cylinder: {
+      const double A = dx * dx + dy * dy;
+      if (A <= 1e-24) {  // along the axis
+        if (std::abs(std::hypot(ox, oy) - s.radius) <= tolerance) return false;
+        break;
+      }
+      quadratic(A, 2 * (ox * dx + oy * dy), ox * ox + oy * oy - s.radius * s.radius);
+      break;
+    }
+    case Kind::Sphere:
+      quadratic(1, 2 * (ox * dx + oy * dy + oz * dz), ox * ox + oy * oy + oz * oz - s.radius * s.radius);
+      break;
+    case Kind::Cone: {
+      // x^2 + y^2 = r(z)^2 with r(z) = R + z tan(half-angle), both nappes.
+      const double k = s.tanAngle, r0 = s.radius + oz * k;
+      const double A = dx * dx + dy * dy - dz * dz * k * k;
+      if (std::abs(A) <= 1e-12) return false;  // along a generator
+      quadratic(A, 2 * (ox * dx + oy * dy - r0 * dz * k), ox * ox + oy * oy - r0 * r0);
+      break;
+    }
+    case Kind::Torus: {
+      const IntAna_IntLinTorus intersection(gp_Lin(gp_Pnt(a[0], a[1], a[2]), gp_Dir(dir)), s.torus);
+      if (!intersection.IsDone()) return false;
+      const double R2 = s.radius * s.radius, r2 = s.minorRadius * s.minorRadius;
+      for (int i = 1; i <= intersection.NbPoints() && rootCount < 4; ++i) {
+        // Polish the quartic's root along the line: F = (|p|^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + y^2).
+        double w = intersection.ParamOnLine(i);
+        for (int iteration = 0; iteration < 3; ++iteration) {
+          const double x = ox + w * dx, y = oy + w * dy, z = oz + w * dz;
+          const double sum = x * x + y * y + z * z + R2 - r2;
+          const double F = sum * sum - 4 * R2 * (x * x + y * y);
+          const double dF = 4 * sum * (x * dx + y * dy + z * dz) - 8 * R2 * (x * dx + y * dy);
+          if (dF == 0) break;
+          const double step = F / dF;
+          if (!std::isfinite(step) || std::abs(step) > 1e-6 * diagonal) break;
+          w -= step;
+        }
+        roots[rootCount++] = w;
+      }
+      break;
+    }
+    case Kind::None:
+      return false;
+  }
+  // OpenCASCADE's rounding decides about a crossing at an end of the segment.
+  const double endMargin = 100 * tolerance;
+  for (int i = 0; i < rootCount; ++i) {
+    const double w = roots[i];
+    if (w < -endMargin || w > length + endMargin) continue;
+    const gp_XYZ point(a[0] + w * dir.X(), a[1] + w * dir.Y(), a[2] + w * dir.Z());
+    // The face lies in its triangles' grown boxes; those holding the point are the ones
+    // that classify it.
+    near.clear();
+    analyticFaceTree[f].atPoint(point, [&](int id) { near.push_back(static_cast<size_t>(id)); });
+    if (near.empty()) continue;
+    if (w <= endMargin || w >= length - endMargin) return false;
+    const double x = ox + w * dx, y = oy + w * dy, z = oz + w * dz;
+    // The surface normal (gradient of the implicit equation) and the parameters at the root.
+    gp_XYZ normal;
+    double u, v;
+    if (!s.parameters(x, y, z, tolerance, u, v, normal)) return false;
+    const double normalLength = normal.Modulus();
+    const double lineNormal = (normal.X() * dx + normal.Y() * dy + normal.Z() * dz);
+    // A grazing line: its two crossings merge into a touch that OpenCASCADE may call
+    // tangent; leave those to it.
+    if (!(std::abs(lineNormal) > 1e-3 * normalLength)) return false;
+    // Near a boundary chord OpenCASCADE's classification decides (on the boundary, within
+    // the tolerance, the crossing may also belong to the neighbour face): its intersector
+    // answers for the face. Elsewhere the parametric triangles do.
+    const Domain domain = domainByTriangles(gp_Pnt(point), f, u, v, near.data(), near.size());
+    if (domain == Domain::Unsure) return false;
+    const bool inside = domain == Domain::In;
+    if (!inside) continue;
+    found.push_back({w, u, v});
+  }
+  return true;
+}
 
 BrepSolid::Impl::NewtonResult BrepSolid::Impl::newtonCrossing(const Point3& a, const Point3& d, double length,
                                                               int face, const NewtonSeed& seed, double& t,
@@ -822,22 +1378,22 @@ BrepSolid::Impl::NewtonResult BrepSolid::Impl::newtonCrossing(const Point3& a, c
   if (area == 0) return NewtonResult::Unsure;
   const double w1 = q.Crossed(e2) / area, w2 = e1.Crossed(q) / area;
   const double slack = -1e-9;
-  if (!(w1 >= slack && w2 >= slack && 1 - w1 - w2 >= slack)) return NewtonResult::Unsure;
-  if (t < 0 || t > 1) return NewtonResult::None;
   uv.SetCoord(u, v);
+  if (!(w1 >= slack && w2 >= slack && 1 - w1 - w2 >= slack)) return NewtonResult::OffTriangle;
+  if (t < 0 || t > 1) return NewtonResult::None;
   return NewtonResult::Crossing;
 }
 
 std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const Point3& a, const Point3& b) const {
   std::vector<FaceSpan> found;
   if (!proxyTree) {
-    for (size_t f = 0; f < faces.size(); ++f) found.push_back({static_cast<int>(f), 0.0, 1.0});
+    for (size_t f = 0; f < faces.size(); ++f) found.push_back({static_cast<int>(f), 0.0, 1.0, false});
     return found;
   }
-  // AABB traversal that collects the B-rep faces having a proxy triangle within the face's
-  // crossing band of the segment: the only faces the segment can cross (each face lies
-  // within that band of its own triangles). A hit on the face lies in the grown box of
-  // such a triangle, so the union of those boxes' parts of the segment is where to look.
+  // Collects the B-rep faces having a proxy triangle whose box, grown by the face's crossing
+  // band, meets the segment: the only faces the segment can cross (each face lies within
+  // that band of its own triangles). A hit on the face lies in such a grown box, so the
+  // union of those boxes' parts of the segment is where to look.
   struct Traversal {
     const Impl& m;
     SegmentBoxTest boxTest;
@@ -846,31 +1402,48 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
     std::vector<int> slot;  // per face: index into `found`, -1 when not found yet
     std::vector<FaceSpan>& found;
 
-    bool go_further() const { return true; }
-    void intersection(int, const ProxyPrimitive& primitive) {
-      const size_t id = static_cast<size_t>(primitive.id());
+    // A triangle of a face without closed form whose grown box the segment meets on [t0, t1].
+    void intersection(size_t id, double t0, double t1) {
       const int f = m.proxyFaceOfTriangle[id];
       const double band = m.crossingBand[f];
-      double t0, t1;
-      if (!boxTest.meets(m.proxyTriangleBox[id], band, t0, t1)) return;
       // A face left to OpenCASCADE only needs its span: a triangle inside it adds nothing.
       if (slot[f] >= 0 && !found[slot[f]].newtonOnly && found[slot[f]].t0 <= t0 && t1 <= found[slot[f]].t1) return;
-      // Segment/triangle distance: zero when they meet, else reached at an end of the
-      // segment or on an edge of the triangle.
-      const Kernel::Triangle_3 t = m.proxyTriangle(primitive.id());
+      const NewtonTriangle& triangle = m.newtonTriangle[id];
+      const Kernel::Triangle_3 t(toK(triangle.node[0]), toK(triangle.node[1]), toK(triangle.node[2]));
       NewtonSeed seed{id, 0, {0, 0, 0}, true};
+      bool beside = false;  // near the segment but not crossed, and certainly not crossing it
       if (!CGAL::do_intersect(segment, t)) {
-        const double limit = band * band;
-        bool near = CGAL::to_double(CGAL::squared_distance(segment.source(), t)) <= limit ||
-                    CGAL::to_double(CGAL::squared_distance(segment.target(), t)) <= limit;
-        for (int e = 0; e < 3 && !near; ++e)
-          near = CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))) <= limit;
-        if (!near) return;
+        // Segment/triangle distance: reached at an end of the segment or on an edge of the
+        // triangle.
+        double nearest = std::min(CGAL::to_double(CGAL::squared_distance(segment.source(), t)),
+                                  CGAL::to_double(CGAL::squared_distance(segment.target(), t)));
+        for (int e = 0; e < 3; ++e)
+          nearest = std::min(nearest, CGAL::to_double(CGAL::squared_distance(segment, Kernel::Segment_3(t[e], t[(e + 1) % 3]))));
+        if (nearest > band * band) return;
         seed.crossed = false;
+        // The surface over the triangle stays within the face's patch deviation of it, and
+        // the face reaches past its boundary chords by less than its band: a segment beside
+        // the triangle farther than both cannot cross the face over or next to it.
+        const double deviation = m.patchDeviation[f];
+        beside = nearest > deviation * deviation && chordsFarFromSegment(triangle, band);
       }
-      // A triangle the segment only passes beside may still have a crossing over it (the
-      // surface bulges towards the segment): that face is left to OpenCASCADE.
-      const bool seeded = seed.crossed && seedOf(m.newtonTriangle[id], seed);
+      FaceSpan& span = spanOf(f, t0, t1);
+      if (!span.newtonOnly) return;
+      span.near.push_back(id);
+      if (beside) return;
+      // Else the surface over it may bulge onto the segment: Newton iteration from where the
+      // line meets the triangle's plane finds that crossing, or the crossing over a
+      // neighbour the segment passes through. An oblique triangle may have two crossings
+      // over it: the face is left to OpenCASCADE.
+      if (!seedOf(triangle, seed)) {
+        span.newtonOnly = false;
+        span.seeds.clear();
+        span.near.clear();
+        return;
+      }
+      span.seeds.push_back(seed);
+    }
+    FaceSpan& spanOf(int f, double t0, double t1) {
       if (slot[f] < 0) {
         slot[f] = static_cast<int>(found.size());
         found.push_back({f, t0, t1});
@@ -878,24 +1451,24 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
         found[slot[f]].t0 = std::min(found[slot[f]].t0, t0);
         found[slot[f]].t1 = std::max(found[slot[f]].t1, t1);
       }
-      FaceSpan& span = found[slot[f]];
-      if (!seeded) {
-        span.newtonOnly = false;
-        span.seeds.clear();
-      } else if (span.newtonOnly) {
-        span.seeds.push_back(seed);
-      }
+      return found[slot[f]];
+    }
+    static KPoint toK(const gp_Pnt& p) { return KPoint(p.X(), p.Y(), p.Z()); }
+    bool chordsFarFromSegment(const NewtonTriangle& triangle, double margin) const {
+      for (int k = 0; k < 3; ++k)
+        if (triangle.boundaryEdge[k] &&
+            CGAL::to_double(CGAL::squared_distance(
+                segment, Kernel::Segment_3(toK(triangle.node[k]), toK(triangle.node[(k + 1) % 3])))) <= margin * margin)
+          return false;
+      return true;
     }
     // Where the segment crosses a regular proxy triangle steeply enough that the line
     // cannot turn tangent to the surface patch over it (the tilt bound, plus 10 degrees).
     bool seedOf(const NewtonTriangle& triangle, NewtonSeed& seed) const {
-      if (!triangle.regular) return false;
-      const gp_XYZ p0 = triangle.node[0].XYZ(), e1 = triangle.node[1].XYZ() - p0, e2 = triangle.node[2].XYZ() - p0;
       const gp_XYZ dir(direction[0], direction[1], direction[2]);
-      const gp_XYZ normal = e1.Crossed(e2);
-      const double steepness = std::abs(dir.Dot(normal)) / (dir.Modulus() * normal.Modulus());
-      if (!(std::acos(std::min(1.0, steepness)) + triangle.tilt < (80.0 / 180.0) * M_PI)) return false;
-      // Moller-Trumbore: a + t d = p0 + w1 e1 + w2 e2.
+      if (!m.steep(triangle, dir)) return false;
+      const gp_XYZ p0 = triangle.node[0].XYZ(), e1 = triangle.node[1].XYZ() - p0, e2 = triangle.node[2].XYZ() - p0;
+      // Where the line meets the triangle's plane (Moller-Trumbore): a + t d = p0 + w1 e1 + w2 e2.
       const gp_XYZ pvec = dir.Crossed(e2);
       const double det = e1.Dot(pvec);
       const gp_XYZ s = gp_XYZ(origin[0], origin[1], origin[2]) - p0;
@@ -906,16 +1479,19 @@ std::vector<BrepSolid::Impl::FaceSpan> BrepSolid::Impl::facesNearSegment(const P
       seed.weight = {1 - w1 - w2, w1, w2};
       return std::isfinite(seed.t) && std::isfinite(seed.weight[0]);
     }
-    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
-      return boxTest.meets(node.bbox(), m.crossingReach);
-    }
   };
   Traversal traversal{*this, SegmentBoxTest(a, b - a),
                       Kernel::Segment_3(KPoint(a[0], a[1], a[2]), KPoint(b[0], b[1], b[2])),
-                      a, b - a, std::vector<int>(faces.size(), -1), found};
-  proxyTree->traversal(0, traversal);
-  for (int f : facesWithoutTriangles)
-    if (traversal.slot[f] < 0) found.push_back({f, 0.0, 1.0, false, {}});
+                      a, b - a, std::vector<int>(newtonFaceTree.empty() ? 0 : faces.size(), -1), found};
+  newtonFaceTree.onSegment(traversal.boxTest,
+                           [&](int id, double t0, double t1) { traversal.intersection(static_cast<size_t>(id), t0, t1); });
+  // Analytic faces are solved on the whole segment part in their box; their triangles are
+  // looked up at the solutions only.
+  for (int f : analyticFaces) {
+    double t0, t1;
+    if (traversal.boxTest.meets(analyticFaceTree[f].box(), 0.0, t0, t1)) found.push_back({f, t0, t1});
+  }
+  for (int f : facesWithoutTriangles) found.push_back({f, 0.0, 1.0, false, {}});  // in no tree
   return found;
 }
 
@@ -970,31 +1546,56 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
     hits.push_back(hit);
   };
   std::vector<std::pair<double, gp_Pnt2d>> newtonHits;
+  std::vector<LineHit> analyticHits;
+  std::vector<size_t> nearSolution;
   for (const FaceSpan& span : candidates) {
     const int f = span.face;
+    if (span.newtonOnly && analytic[f].kind != AnalyticSurface::Kind::None) {
+      std::vector<LineHit>& found = analyticHits;
+      found.clear();
+      if (analyticCrossings(a, d, length, f, found, nearSolution, *lease)) {
+        for (const LineHit& hit : found) addHit(f, hit.w, hit.u, hit.v);
+        continue;
+      }
+    }
     // Each crossing of the face lies on the surface over one of the triangles near the
-    // segment; when all of those are crossed cleanly, one Newton solve per triangle finds
-    // them all, and OpenCASCADE's intersector is not needed.
-    bool solved = span.newtonOnly && !span.seeds.empty();
+    // segment. When each of those is either certified beside the segment or steep enough for
+    // one crossing over it, one Newton solve per steep triangle finds them all, and
+    // OpenCASCADE's intersector is not needed (no seed at all: the face is not crossed).
+    bool solved = span.newtonOnly && analytic[f].kind == AnalyticSurface::Kind::None;
     newtonHits.clear();
+    const gp_XYZ direction(d[0], d[1], d[2]);
     for (size_t i = 0; solved && i < span.seeds.size(); ++i) {
       double t;
       gp_Pnt2d uv;
-      const NewtonResult found = newtonCrossing(a, d, length, f, span.seeds[i], t, uv);
+      NewtonResult found = newtonCrossing(a, d, length, f, span.seeds[i], t, uv);
+      bool onSeedTriangle = found == NewtonResult::Crossing;
+      if (found == NewtonResult::OffTriangle) {
+        // A crossing of the line over another steep triangle near the segment: that is the
+        // crossing near this seed (the surface cannot fold back between two patches the
+        // line crosses steeply), and the seed's own triangle has none.
+        found = NewtonResult::Unsure;
+        const gp_Pnt point = toGp(a + t * d);
+        for (size_t id : span.near) {
+          double u = uv.X(), v = uv.Y();
+          if (!steep(newtonTriangle[id], direction) || domainByTriangles(point, f, u, v, &id, 1) != Domain::In)
+            continue;
+          found = t < 0 || t > 1 ? NewtonResult::None : NewtonResult::Crossing;
+          break;
+        }
+      }
       solved = found != NewtonResult::Unsure;
       if (found != NewtonResult::Crossing) continue;
-      // The face's domain decides as for OpenCASCADE's own solutions: outside, no crossing;
-      // on its boundary (within the tolerance) the crossing may belong to the neighbour face,
-      // which OpenCASCADE's intersector sorts out.
-      TopAbs_State state = TopAbs_IN;
-      if (!newtonTriangle[span.seeds[i].triangle].interior) {
-        auto& domain = lease->domainByFace[f];
-        if (!domain) domain = std::make_unique<BRepTopAdaptor_FClass2d>(faces[f], classifyTolerance);
-        state = domain->Perform(uv);
-      }
-      solved = state == TopAbs_IN;
+      // The solution lies on a parametric triangle of the face: in the face's domain unless
+      // a boundary chord is near. There OpenCASCADE's classification decides: outside, no
+      // crossing; on the boundary (within the tolerance) the crossing may belong to the
+      // neighbour face, which OpenCASCADE's intersector sorts out.
+      double u = uv.X(), v = uv.Y();
+      if (!(onSeedTriangle && newtonTriangle[span.seeds[i].triangle].interior) &&
+          domainByTriangles(toGp(a + t * d), f, u, v, span.near.data(), span.near.size()) != Domain::In)
+        solved = domainOf(*lease, f).Perform(uv) == TopAbs_IN;
       // Two seeds on a shared triangle edge find the same crossing: keep it once.
-      if (solved && state == TopAbs_IN && std::none_of(newtonHits.begin(), newtonHits.end(), [&](const auto& hit) {
+      if (solved && std::none_of(newtonHits.begin(), newtonHits.end(), [&](const auto& hit) {
             return std::abs(hit.first - t) * length <= 1e-9 * diagonal;
           }))
         newtonHits.emplace_back(t, uv);

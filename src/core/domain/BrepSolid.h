@@ -48,12 +48,16 @@ class BrepSolid : public Source {
   bool inside(const Point3& p) const override;
   BoundaryProjection project(const Point3& p) const override;
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
-  // Exact crossings: the faces whose proxy triangles come within their band of the segment
-  // are intersected with the segment's line, by Newton iteration on the surface from the
-  // proxy hits where every such triangle is crossed cleanly, else by OpenCASCADE
-  // (IntCurvesFace_Intersector); every face when the proxy has none. patch = face index; `entering` from the face's
-  // outward normal. Tangential touches are dropped; a crossing through an edge shared by two
-  // faces is reported once (for the face hit first).
+  // Exact crossings, face by face. A face on a plane, cylinder, cone, sphere or torus whose
+  // triangles' band-grown boxes the segment meets is intersected in closed form, its roots
+  // classified by the face's parametric triangles. Other faces whose triangles come within
+  // their band are solved by Newton iteration from the triangles the segment crosses or
+  // passes steeply. OpenCASCADE (IntCurvesFace_Intersector) answers for a face where a root
+  // lies near the face's boundary or an end of the segment, a line grazes the surface, a
+  // triangle near the segment is too oblique, and for faces without triangles.
+  // patch = face index; `entering` from the face's outward normal. Tangential touches are
+  // dropped; a crossing through an edge shared by two faces is reported once (for the face
+  // hit first).
   std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
   double volume() const override;
 
