@@ -74,16 +74,25 @@ TEST(DemoAssembly, BoundaryNodesLieOnBrepFaces) {
     const double diag = 120.0;  // about the plate's diagonal; the bound is relative to it
     const std::set<int64_t> nodes = test::boundaryNodes(mesh);
     ASSERT_GT(nodes.size(), 100u);
-    double worst = 0;
+    double worst = 0, worstOnFace = 0;
+    int64_t offFace = 0;
     for (int64_t v : nodes) {
       const Point3& p = mesh.points[v];
       BRepExtrema_DistShapeShape d(BRepBuilderAPI_MakeVertex(gp_Pnt(p[0], p[1], p[2])).Vertex(), all);
       ASSERT_TRUE(d.IsDone());
       worst = std::max(worst, d.Value());
+      if (d.Value() < 1e-9 * diag) worstOnFace = std::max(worstOnFace, d.Value());
+      else ++offFace;
     }
-    EXPECT_LT(worst, 1e-9 * diag) << "order " << order;
-    std::cout << "[figures] order " << order << ": " << nodes.size() << " boundary nodes, farthest from a face "
-              << worst << "\n";
+    // Corner nodes are always snapped. A mid node stays on its chord only where following the
+    // face would invert a tet; the report counts those (and warns), and they must stay rare.
+    const int64_t reportedStraight = demoResult(order).report.value("second_order_straight_fallbacks", int64_t(0));
+    if (order == 1) EXPECT_EQ(offFace, 0);
+    EXPECT_LE(offFace, reportedStraight) << "order " << order << ": mid nodes off the faces that the report does not count";
+    EXPECT_LE(reportedStraight, static_cast<int64_t>(nodes.size()) / 500) << "order " << order;
+    std::cout << "[figures] order " << order << ": " << nodes.size() << " boundary nodes, " << offFace
+              << " off a face (straight mid nodes reported: " << reportedStraight << ", farthest " << worst
+              << "), the rest within " << worstOnFace << "\n";
   }
 }
 
