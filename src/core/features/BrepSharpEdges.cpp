@@ -70,7 +70,7 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
     throw InputError("features.sharp_angle_deg must be between 0 and 180 degrees, got " + std::to_string(sharpAngleDeg));
   const double diagonal = solid.bbox().diagonal();
   const double cosThreshold = std::cos(sharpAngleDeg * kPi / 180);
-  const double sagittaTolerance = std::min(0.02 * maxSegmentLength, 1e-3 * diagonal);
+  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
 
   // One exact point per corner, shared by every polyline ending there (Mesh_3 finds corners
   // by bitwise-equal end points). Distinct vertices that coincide within their tolerance

@@ -382,7 +382,7 @@ FeatureGraph JunctionCurves::polylines(double maxSegmentLength) const {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("the feature edge size must be a positive number (edge_size), got " +
                      std::to_string(maxSegmentLength));
-  const double sagittaTolerance = std::min(0.02 * maxSegmentLength, 1e-3 * impl_->diagonal);
+  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, impl_->diagonal);
   FeatureGraph graph;
   try {
     for (size_t index = 0; index < impl_->junctions.size(); ++index) {
