@@ -12,6 +12,7 @@
 #include <GCPnts_AbscissaPoint.hxx>
 #include <Extrema_ExtPC.hxx>
 #include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <gtest/gtest.h>
 
@@ -121,6 +122,21 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
   std::set<int> sharp;
   for (const FeaturePolyline& pl : extractSharpEdges(*solid, 0, 30, edgeSize).polylines) sharp.insert(pl.edge);
   ASSERT_FALSE(sharp.empty());
+  // Star vertices (Rule Set Q): B-rep vertices where two or more sharp-edge ends meet (a
+  // closed edge's vertex counts its two ends).
+  TopTools_IndexedMapOfShape vertices;
+  TopExp::MapShapes(solid->shape(), TopAbs_VERTEX, vertices);
+  std::map<int, int> endsAtVertex;
+  for (int e : sharp) {
+    TopoDS_Vertex v1, v2;
+    TopExp::Vertices(solid->edge(e), v1, v2);
+    ++endsAtVertex[vertices.FindIndex(v1)];
+    ++endsAtVertex[vertices.FindIndex(v2)];
+  }
+  int64_t stars = 0;
+  for (const auto& [v, n] : endsAtVertex) stars += n >= 2;
+  EXPECT_EQ(result.report.at("features").at("star_vertices").get<int64_t>(), stars);
+  EXPECT_EQ(result.report.at("features").at("crossing_pieces").get<int64_t>(), 0) << "part.step has no crossing edges";
   std::vector<ReferenceEdge> edges;
   for (int e = 0; e < solid->edgeCount(); ++e) edges.emplace_back(solid->edge(e));
   auto isSeam = [&](int e) {
@@ -247,7 +263,7 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
     }
   }
 
-  std::cout << "[ figures  ] part.step: " << sharp.size() << " sharp edges, " << mesh.feature_edges.size()
+  std::cout << "[ figures  ] part.step: " << sharp.size() << " sharp edges, " << stars << " star vertices, " << mesh.feature_edges.size()
             << " mesh feature edges, longest " << longestChord << " (edge_size " << edgeSize << ")\n"
             << "[ figures  ] nodes -> curve " << nodeDistance << ", mid nodes -> curve " << midNodeDistance
             << " (bound " << nodeBound << "); " << straightMidNodes << " straight mid nodes up to "
