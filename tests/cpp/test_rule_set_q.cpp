@@ -67,6 +67,21 @@ TEST(RuleSetQ, CurvesLeavingACommonVertexAtASmallAngleAreNotSplit) {
   EXPECT_EQ(splitAtCrossings(graph, 1e-9, 0.05, 2).polylines.size(), 2u);
 }
 
+TEST(RuleSetQ, CurvesAlongTheSameArcAreNotSplit) {
+  // Edges of two parts in contact along one arc (presse_asm.step has such pairs), sampled at
+  // different points: their chords cross each other all along, which is no crossing.
+  auto arc = [](double fromDeg, double toDeg) {
+    std::vector<Point3> points;
+    for (double deg = fromDeg; deg <= toDeg + 1e-9; deg += 2)
+      points.push_back({10 * std::cos(deg * M_PI / 180), 10 * std::sin(deg * M_PI / 180), 0});
+    return points;
+  };
+  FeatureGraph graph;
+  graph.polylines = {cadCurve(arc(0, 90), 1), cadCurve(arc(45, 135), 2)};
+  // The chords stray 0.0015 from the arc; the tolerance covers twice that, as in the pipeline.
+  EXPECT_EQ(splitAtCrossings(graph, 1e-9, 0.004, 1).polylines.size(), 2u);
+}
+
 TEST(RuleSetQ, TJunctionIsSplitAndEqualized) {
   // A curve ending inside a segment of another: the other is split there, giving a star
   // vertex of three curves with end segments 1, 1 and 2 long.

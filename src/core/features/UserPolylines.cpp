@@ -29,6 +29,20 @@ void closestParameters(const Point3& a, const Point3& b, const Point3& c, const 
   s = uu > 0 ? std::clamp((uv * t - uw) / uu, 0.0, 1.0) : 0.0;
 }
 
+// Whether a segment of one polyline lies on the other (both ends and its middle within
+// `tolerance`).
+bool shareAStretch(const FeaturePolyline& x, const FeaturePolyline& y, double tolerance) {
+  auto on = [&](const FeaturePolyline& pl, const Point3& p) {
+    return distance(nearestOnPolyline(pl.points, p), p) <= tolerance;
+  };
+  for (const auto& [from, to] : {std::pair{&x, &y}, std::pair{&y, &x}})
+    for (size_t k = 0; k + 1 < from->points.size(); ++k)
+      if (on(*to, from->points[k]) && on(*to, from->points[k + 1]) &&
+          on(*to, 0.5 * (from->points[k] + from->points[k + 1])))
+        return true;
+  return false;
+}
+
 constexpr double kSinMinCrossingAngle = 0.0174524;  // sin(1 degree)
 
 bool boxesOverlap(const Bbox& a, const Bbox& b, double margin) {
@@ -94,6 +108,7 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
       const double reach = userPair ? tolerance : curveTolerance;
       if (!userPair && curveTolerance <= 0) continue;
       if (!boxesOverlap(boxes[i], boxes[j], reach)) continue;
+      int overlapping = -1;  // whether the two CAD curves share a stretch; found when needed
       for (size_t a = 0; a + 1 < first.points.size(); ++a)
         for (size_t b = 0; b + 1 < second.points.size(); ++b) {
           double s, t;
@@ -117,6 +132,10 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           // Curves leaving a common end (a B-rep vertex, a clip point) at a small angle stay
           // close for a while: that is their meeting at the end, not a crossing.
           if (nearSharedEnd(first, second, onFirst)) continue;
+          // Edges of two parts in contact can run along one another (the same arc on both):
+          // they meet at every shared sample, and none of it is a crossing.
+          if (overlapping == -1) overlapping = shareAStretch(first, second, curveTolerance) ? 1 : 0;
+          if (overlapping == 1) continue;
           const Point3 endOfFirst = nearestEnd(first, onFirst), endOfSecond = nearestEnd(second, onSecond);
           const bool atEndOfFirst = distance(endOfFirst, onFirst) <= endClearance;
           const bool atEndOfSecond = distance(endOfSecond, onSecond) <= endClearance;

@@ -26,8 +26,9 @@ FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polyli
 //   are split at the middle of the closest points. Where one ends on the other (within
 //   100 x curveTolerance: a T), the other is split at that end point. Within
 //   `sharedEndClearance` of an end both share, nothing is split: curves leaving a B-rep vertex
-//   at a small angle stay close for a while without crossing. curveTolerance <= 0 leaves CAD
-//   pairs alone.
+//   at a small angle stay close for a while without crossing. Two CAD curves that share a
+//   stretch (a segment of one lies on the other: edges of parts in contact along the same
+//   arc) are not split against each other. curveTolerance <= 0 leaves CAD pairs alone.
 // Pieces keep their fields; curves are renumbered 0, 1, ...
 FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance = 0,
                               double sharedEndClearance = 0);
