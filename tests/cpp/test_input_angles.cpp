@@ -1,6 +1,8 @@
 // The small-input-angle report: dihedral angles along feature edges, angles between feature
 // curves at shared vertices and cone apexes, only where they are on the composite boundary.
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <gp_Ax2.hxx>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +12,7 @@
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
 #include "features/InputAngles.h"
+#include "features/JunctionCurves.h"
 #include "small_angle_shapes.h"
 
 namespace oraclemesh {
@@ -18,10 +21,11 @@ namespace {
 struct Composition {
   std::unique_ptr<HierarchicalOracle> oracle;
   FeatureGraph features;
+  std::unique_ptr<JunctionCurves> junctions;  // with junctions only
 };
 
 // Entries in priority order, each a material of its own; features as the pipeline builds them.
-Composition compose(const std::vector<std::pair<TopoDS_Shape, std::string>>& shapes) {
+Composition compose(const std::vector<std::pair<TopoDS_Shape, std::string>>& shapes, bool junctions = false) {
   std::vector<OracleEntry> entries;
   for (size_t i = 0; i < shapes.size(); ++i)
     entries.push_back({std::make_shared<BrepSolid>(shapes[i].first, shapes[i].second), Role::Material,
@@ -34,7 +38,12 @@ Composition compose(const std::vector<std::pair<TopoDS_Shape, std::string>>& sha
         extractSharpEdges(static_cast<const BrepSolid&>(*entries[i].source), static_cast<int>(i), 30, 1.0);
     all.polylines.insert(all.polylines.end(), g.polylines.begin(), g.polylines.end());
   }
-  c.features = removeCoincidentFeatures(clipToCompositeBoundary(all, *c.oracle), *c.oracle);
+  FeatureGraph clipped = clipToCompositeBoundary(all, *c.oracle);
+  if (junctions) {
+    c.junctions = std::make_unique<JunctionCurves>(JunctionCurves::compute(*c.oracle));
+    clipped = joinJunctions(clipped, c.junctions->polylines(1.0), *c.oracle, *c.junctions);
+  }
+  c.features = removeCoincidentFeatures(clipped, *c.oracle);
   return c;
 }
 
@@ -84,6 +93,58 @@ TEST(InputAngles, ReentrantEdgesAreNotSmall) {
   const Composition c = compose({{BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 4, 4).Shape(), "foot"},
                                  {BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 4, 10).Shape(), "leg"}});
   EXPECT_TRUE(findSmallInputAngles(*c.oracle, c.features, 60).empty());
+}
+
+// A pin (priority) entering a 100 x 60 x 10 plate's top face with its axis at `angleDeg` to
+// the face, ending inside the plate.
+Composition pinEnteringPlate(double angleDeg) {
+  // The axis runs from 4 above the face to 4 below it: the pin's ends stay clear of the face
+  // and of the plate's bottom.
+  const double a = angleDeg * test::kDegree, length = 8 / std::sin(a);
+  const gp_Pnt start(10, 30, 14);
+  const TopoDS_Shape pin =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(start, gp_Dir(std::cos(a), 0, -std::sin(a))), 3, length).Shape();
+  return compose({{pin, "pin"}, {BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 100, 60, 10).Shape(), "plate"}}, true);
+}
+
+TEST(InputAngles, ShallowPinGivesTheJunctionWedge) {
+  // Where the axis' plane meets the face, the pin's surface crosses the plate's face at the
+  // construction angle: the plate keeps a 10-degree wedge under the pin there.
+  for (double construction : {10.0, 25.0}) {
+    const Composition c = pinEnteringPlate(construction);
+    const auto angles = findSmallInputAngles(*c.oracle, c.features, 60, c.junctions.get());
+    int junctions = 0;
+    for (const SmallInputAngle& a : angles) {
+      if (a.kind != "junction") continue;
+      ++junctions;
+      EXPECT_NEAR(a.angle_deg, construction, 1.0);
+      EXPECT_EQ(a.input, "pin / plate");
+      EXPECT_NEAR(a.location[2], 10, 1e-6) << "on the plate's top face";
+      EXPECT_NEAR(a.location[1], 30, 1.0) << "near the axis' plane";
+      std::cout << "[ figures  ] pin at " << construction << " degrees: junction wedge " << a.angle_deg << " at ("
+                << a.location[0] << ", " << a.location[1] << ", " << a.location[2] << ")\n";
+    }
+    EXPECT_EQ(junctions, 1) << "one junction curve: the pin's entry into the top face";
+    // Without the junction curves nothing of the kind is reported.
+    for (const SmallInputAngle& a : findSmallInputAngles(*c.oracle, c.features, 60)) EXPECT_NE(a.kind, "junction");
+  }
+}
+
+TEST(InputAngles, PerpendicularPinHasNoSmallJunctionWedge) {
+  // Pin through the plate at a right angle: wedges of 90 (plate, outside) and 180 (pin).
+  const TopoDS_Shape pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(30, 30, -10), gp_Dir(0, 0, 1)), 5, 30).Shape();
+  const Composition c = compose({{pin, "pin"}, {BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 100, 60, 10).Shape(), "plate"}}, true);
+  ASSERT_GT(c.junctions->size(), 0u);
+  EXPECT_TRUE(findSmallInputAngles(*c.oracle, c.features, 60, c.junctions.get()).empty());
+  // With the limit above 90 degrees the right-angle wedges show up, at 90 within rounding.
+  const auto wide = findSmallInputAngles(*c.oracle, c.features, 91, c.junctions.get());
+  int junctions = 0;
+  for (const SmallInputAngle& a : wide)
+    if (a.kind == "junction") {
+      ++junctions;
+      EXPECT_NEAR(a.angle_deg, 90, 1e-6);
+    }
+  EXPECT_EQ(junctions, 2) << "both circles";
 }
 
 }  // namespace

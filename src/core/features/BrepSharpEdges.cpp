@@ -5,6 +5,8 @@
 #include <BRepAdaptor_Curve2d.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_Surface.hxx>
 #include <GCPnts_AbscissaPoint.hxx>
 #include <GCPnts_UniformAbscissa.hxx>
 #include <Standard_Failure.hxx>
@@ -46,6 +48,24 @@ bool facesMeetSharply(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoD
 
 }  // namespace
 
+bool outwardNormalAt(const TopoDS_Face& face, const gp_Pnt& p, gp_Vec& normal) {
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  if (surface.IsNull()) return false;
+  GeomAPI_ProjectPointOnSurf projector(p, surface);
+  if (!projector.IsDone() || projector.NbPoints() == 0) return false;
+  double u, v;
+  projector.LowerDistanceParameters(u, v);
+  gp_Pnt q;
+  gp_Vec du, dv;
+  surface->D1(u, v, q, du, dv);
+  normal = du.Crossed(dv);
+  const double scale = du.Magnitude() * dv.Magnitude();
+  if (!(scale > 0) || !(normal.Magnitude() > 1e-10 * scale)) return false;
+  normal.Normalize();
+  if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
+  return true;
+}
+
 bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, double u, gp_Vec& normal) {
   BRepAdaptor_Curve2d pcurve(edge, face);
   const gp_Pnt2d uv = pcurve.Value(u);
@@ -70,7 +90,7 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
     throw InputError("features.sharp_angle_deg must be between 0 and 180 degrees, got " + std::to_string(sharpAngleDeg));
   const double diagonal = solid.bbox().diagonal();
   const double cosThreshold = std::cos(sharpAngleDeg * kPi / 180);
-  const double sagittaTolerance = std::min(0.02 * maxSegmentLength, 1e-3 * diagonal);
+  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
 
   // One exact point per corner, shared by every polyline ending there (Mesh_3 finds corners
   // by bitwise-equal end points). Distinct vertices that coincide within their tolerance

@@ -1,6 +1,7 @@
 #pragma once
 // Sharp B-rep edges as constrained segments (thesis §3), and their clipping to the part of
 // the composite boundary that survives the priority composition.
+#include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
 
 #include "domain/BrepSolid.h"
@@ -23,6 +24,10 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
 // Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on
 // that face); false where the surface is singular (apex, pole).
 bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, double u, gp_Vec& normal);
+
+// Outward unit normal of `face` at p, a point on it (found by projection onto its surface);
+// false where the surface is singular or the projection fails.
+bool outwardNormalAt(const TopoDS_Face& face, const gp_Pnt& p, gp_Vec& normal);
 
 constexpr int kCurvesPerSource = 1000000;
 

@@ -176,15 +176,93 @@ void coneApexes(const HierarchicalOracle& oracle, double limit, std::vector<Smal
   }
 }
 
+// The smallest composite material wedge at point p of a junction between faces a and b: the
+// two faces' traces in the plane normal to the curve bound four sectors, each labelled by the
+// oracle at its bisector (1e-4 of the diagonal out); runs of one material are its wedges.
+// Negative when the faces are tangent there or a normal is undefined.
+double smallestMaterialWedge(const HierarchicalOracle& oracle, const TopoDS_Face& a, const TopoDS_Face& b,
+                             const Point3& p) {
+  gp_Vec na, nb;
+  const gp_Pnt at(p[0], p[1], p[2]);
+  if (!outwardNormalAt(a, at, na) || !outwardNormalAt(b, at, nb)) return -1;
+  const Point3 normalA{na.X(), na.Y(), na.Z()}, normalB{nb.X(), nb.Y(), nb.Z()};
+  Point3 tangent = cross(normalA, normalB);  // the curve runs along both faces
+  if (norm(tangent) < 1e-6) return -1;
+  tangent = (1 / norm(tangent)) * tangent;
+  const Point3 e1 = cross(tangent, normalA), e2 = cross(tangent, e1);  // unit: normals are unit
+  const Point3 traceB = cross(tangent, normalB);
+  std::vector<double> rays = {0, kPi, std::atan2(dot(traceB, e2), dot(traceB, e1))};
+  rays.push_back(rays[2] + kPi);
+  for (double& r : rays) r = std::fmod(r + 4 * kPi, 2 * kPi);
+  std::sort(rays.begin(), rays.end());
+  const double radius = 1e-4 * oracle.diagonal();
+  std::vector<double> sector(4);
+  std::vector<int> label(4);
+  for (int k = 0; k < 4; ++k) {
+    const double from = rays[k], to = k == 3 ? rays[0] + 2 * kPi : rays[k + 1];
+    sector[k] = to - from;
+    const double middle = 0.5 * (from + to);
+    label[k] = oracle.label(p + radius * (std::cos(middle) * e1 + std::sin(middle) * e2));
+  }
+  // Start at a change of label so that runs do not wrap around.
+  int start = 0;
+  while (start < 4 && label[start] == label[(start + 3) % 4]) ++start;
+  if (start == 4) return -1;  // one label all round: not on the composite boundary
+  double smallest = -1, run = 0;
+  for (int i = 0; i < 4; ++i) {
+    const int k = (start + i) % 4;
+    run += sector[k];
+    if (label[k] != label[(k + 1) % 4]) {
+      if (label[k] > 0 && (smallest < 0 || run < smallest)) smallest = run;
+      run = 0;
+    }
+  }
+  return smallest;
+}
+
+void junctionAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, const JunctionCurves& junctions,
+                    double limit, std::vector<SmallInputAngle>& out) {
+  std::map<int, std::vector<const FeaturePolyline*>> byJunction;
+  for (const FeaturePolyline& pl : features.polylines)
+    if (pl.junction >= 0) byJunction[pl.junction].push_back(&pl);
+  for (const auto& [junction, polylines] : byJunction) {
+    const auto [entryA, entryB] = junctions.entries(junction);
+    const auto [faceA, faceB] = junctions.faces(junction);
+    const auto* solidA = dynamic_cast<const BrepSolid*>(oracle.entries()[entryA].source.get());
+    const auto* solidB = dynamic_cast<const BrepSolid*>(oracle.entries()[entryB].source.get());
+    if (!solidA || !solidB) continue;
+    SmallInputAngle smallest;
+    smallest.angle_deg = 360;
+    for (const FeaturePolyline* pl : polylines) {
+      // Inner points lie on the exact curve; the ends may be where a third surface cuts in.
+      std::vector<Point3> samples(pl->points.begin() + 1, pl->points.end() - 1);
+      if (samples.empty()) samples.push_back(junctions.projectOnCurve(junction, 0.5 * (pl->points[0] + pl->points[1])).point);
+      for (const Point3& p : samples) {
+        const double wedge = smallestMaterialWedge(oracle, solidA->face(faceA), solidB->face(faceB), p);
+        if (wedge >= 0 && degrees(wedge) < smallest.angle_deg) {
+          smallest.angle_deg = degrees(wedge);
+          smallest.location = p;
+        }
+      }
+    }
+    if (smallest.angle_deg < limit) {
+      smallest.kind = "junction";
+      smallest.input = solidA->name() + " / " + solidB->name();
+      out.push_back(smallest);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
-                                                  double limitDeg) {
+                                                  double limitDeg, const JunctionCurves* junctions) {
   std::vector<SmallInputAngle> result;
   try {
     dihedralAngles(oracle, features, limitDeg, result);
     curveAngles(oracle, features, limitDeg, result);
     coneApexes(oracle, limitDeg, result);
+    if (junctions) junctionAngles(oracle, features, *junctions, limitDeg, result);
   } catch (const Standard_Failure& failure) {
     throw Error(std::string("OpenCASCADE failed while measuring the input angles (") + failure.GetMessageString() +
                 "): check the solids with Part > Check geometry");

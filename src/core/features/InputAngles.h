@@ -8,13 +8,16 @@
 
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureGraph.h"
+#include "features/JunctionCurves.h"
 
 namespace oraclemesh {
 
 struct SmallInputAngle {
   // "dihedral": two faces of one input meet along a feature edge at this interior angle;
   // "curves": two feature curves leave a common vertex at this angle;
-  // "cone_apex": the full opening angle of a conical face ending in a point.
+  // "cone_apex": the full opening angle of a conical face ending in a point;
+  // "junction": a material wedge where the boundaries of two inputs cross (the plate's wedge
+  // under a pin entering it at a shallow angle), from their exact face normals.
   std::string kind;
   double angle_deg = 0;
   Point3 location{};  // where the angle is smallest
@@ -25,8 +28,12 @@ struct SmallInputAngle {
 // The input angles under `limitDeg` on the composite boundary: dihedral angles along the B-rep
 // edges that are in `features` (so buried edges do not count), angles between feature curves
 // at their shared end points, and cone apexes not buried inside a higher-priority input.
+// With `junctions` (the curves the junction polylines of `features` run along), also the
+// composite material wedges along those polylines: at each inner polyline point the two
+// inputs' faces cut the plane normal to the curve into four sectors; neighbouring sectors of
+// one material form a wedge, and the smallest wedge of any material along the curve counts.
 // Sorted by angle, smallest first.
 std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
-                                                  double limitDeg);
+                                                  double limitDeg, const JunctionCurves* junctions = nullptr);
 
 }  // namespace oraclemesh

@@ -23,6 +23,7 @@
 
 #include "Error.h"
 #include "domain/BrepSolid.h"
+#include "features/BrepSharpEdges.h"
 
 namespace oraclemesh {
 
@@ -46,25 +47,6 @@ struct Junction {
   Point3 firstPoint{}, lastPoint{};  // the section vertices
   std::vector<std::pair<double, double>> kept;  // curve parameter intervals, increasing
 };
-
-// Outward unit normal of `face` at p (a point on it); false where singular or not found.
-bool faceNormalAt(const TopoDS_Face& face, const gp_Pnt& p, gp_Vec& normal) {
-  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
-  if (surface.IsNull()) return false;
-  GeomAPI_ProjectPointOnSurf projector(p, surface);
-  if (!projector.IsDone() || projector.NbPoints() == 0) return false;
-  double u, v;
-  projector.LowerDistanceParameters(u, v);
-  gp_Pnt q;
-  gp_Vec du, dv;
-  surface->D1(u, v, q, du, dv);
-  normal = du.Crossed(dv);
-  const double scale = du.Magnitude() * dv.Magnitude();
-  if (!(scale > 0) || !(normal.Magnitude() > 1e-10 * scale)) return false;
-  normal.Normalize();
-  if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
-  return true;
-}
 
 // Decides, along one section edge, where it is a crease of the composite boundary.
 class CreaseClassifier {
@@ -95,8 +77,8 @@ class CreaseClassifier {
     // wedges between them at their bisectors, so a thin wedge is never missed.
     std::vector<Point3> traces;
     gp_Vec na, nb;
-    if (faceNormalAt(solidA_->face(junction_.faceA), p, na)) traces.push_back(normalized(cross(tangent, toPoint3(na))));
-    if (faceNormalAt(solidB_->face(junction_.faceB), p, nb)) traces.push_back(normalized(cross(tangent, toPoint3(nb))));
+    if (outwardNormalAt(solidA_->face(junction_.faceA), p, na)) traces.push_back(normalized(cross(tangent, toPoint3(na))));
+    if (outwardNormalAt(solidB_->face(junction_.faceB), p, nb)) traces.push_back(normalized(cross(tangent, toPoint3(nb))));
     Point3 e1 = traces.empty() ? Point3{0, 0, 0} : traces.front();
     if (norm(e1) < 0.5) {
       const int axis = std::abs(tangent[0]) < 0.6 ? 0 : (std::abs(tangent[1]) < 0.6 ? 1 : 2);
@@ -362,7 +344,7 @@ JunctionCurves JunctionCurves::compute(const HierarchicalOracle& oracle, double 
             const double u = curve.FirstParameter() + (k + 0.5) / 5 * (curve.LastParameter() - curve.FirstParameter());
             const gp_Pnt p = curve.Value(u);
             gp_Vec na, nb;
-            if (!faceNormalAt(solidA->face(j.faceA), p, na) || !faceNormalAt(solidB->face(j.faceB), p, nb)) continue;
+            if (!outwardNormalAt(solidA->face(j.faceA), p, na) || !outwardNormalAt(solidB->face(j.faceB), p, nb)) continue;
             transversal = na.Crossed(nb).Magnitude() > tangentSine;
           }
           if (!transversal) continue;
@@ -382,7 +364,7 @@ FeatureGraph JunctionCurves::polylines(double maxSegmentLength) const {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("the feature edge size must be a positive number (edge_size), got " +
                      std::to_string(maxSegmentLength));
-  const double sagittaTolerance = std::min(0.02 * maxSegmentLength, 1e-3 * impl_->diagonal);
+  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, impl_->diagonal);
   FeatureGraph graph;
   try {
     for (size_t index = 0; index < impl_->junctions.size(); ++index) {

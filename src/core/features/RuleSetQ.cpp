@@ -61,4 +61,46 @@ std::vector<StarVertex> findStarVertices(const FeatureGraph& graph, double toler
   return stars;
 }
 
+FeatureGraph equalizeStarSegments(const FeatureGraph& graph, const std::vector<StarVertex>& stars) {
+  // Where each polyline end is a star vertex: the distance from the end to its new point.
+  std::vector<double> startCut(graph.polylines.size(), 0), endCut(graph.polylines.size(), 0);
+  std::map<Point3, int> starAt;  // star vertices by their (bitwise) end points
+  for (size_t k = 0; k < stars.size(); ++k)
+    for (const StarVertex::Incident& e : stars[k].incident) {
+      const FeaturePolyline& pl = graph.polylines[e.polyline];
+      starAt[e.at_start ? pl.points.front() : pl.points.back()] = static_cast<int>(k);
+    }
+  for (const StarVertex& star : stars) {
+    // Free (thesis fig. 3.3): equal incident lengths and no incident segment reaching another
+    // star vertex. Lengths compare to rounding, as a previous equalisation leaves them.
+    bool free = true;
+    for (const StarVertex::Incident& e : star.incident) {
+      const FeaturePolyline& pl = graph.polylines[e.polyline];
+      const Point3& neighbour = e.at_start ? pl.points[1] : pl.points[pl.points.size() - 2];
+      free = free && endSegmentLength(pl, e.at_start) <= star.shortest_incident_length * (1 + 1e-9) &&
+             !starAt.count(neighbour);
+    }
+    if (free || !(star.shortest_incident_length > 0)) continue;
+    for (const StarVertex::Incident& e : star.incident)
+      (e.at_start ? startCut : endCut)[e.polyline] = star.shortest_incident_length / 3;
+  }
+  FeatureGraph result = graph;
+  for (size_t i = 0; i < graph.polylines.size(); ++i) {
+    std::vector<Point3>& p = result.polylines[i].points;
+    if (p.size() < 2 || (startCut[i] == 0 && endCut[i] == 0)) continue;
+    // Both cuts are taken on the original end segments; on a one-segment polyline they are at
+    // most a third of it from each end, so they stay in order.
+    const Point3 first = p[0], second = p[1], last = p[p.size() - 1], beforeLast = p[p.size() - 2];
+    if (endCut[i] > 0) {
+      const Point3 back = last + (endCut[i] / distance(last, beforeLast)) * (beforeLast - last);
+      p.insert(p.end() - 1, back);
+    }
+    if (startCut[i] > 0) {
+      const Point3 front = first + (startCut[i] / distance(first, second)) * (second - first);
+      p.insert(p.begin() + 1, front);
+    }
+  }
+  return result;
+}
+
 }  // namespace oraclemesh

@@ -31,4 +31,13 @@ struct StarVertex {
 // Sorted by position (lexicographic), so the order does not depend on polyline order.
 std::vector<StarVertex> findStarVertices(const FeatureGraph& graph, double tolerance);
 
+// Thesis Q1: at every star vertex that is not free (its incident end segments differ in
+// length, or one of them ends at another star vertex), a point goes on each incident end
+// segment at l_min,i / 3 from the star vertex, so that all segments incident to it are
+// equally long and none reaches another star vertex. The point is on the end segment's chord
+// (off the exact curve by at most the sampling sagitta; the pipeline snaps mesh vertices onto
+// the curve afterwards). `stars` must come from findStarVertices(graph, ...). Curve ids and
+// origins are kept; no polyline is added or removed.
+FeatureGraph equalizeStarSegments(const FeatureGraph& graph, const std::vector<StarVertex>& stars);
+
 }  // namespace oraclemesh

@@ -21,7 +21,9 @@
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
 #include "features/InputAngles.h"
+#include "features/CurveSampling.h"
 #include "features/JunctionCurves.h"
+#include "features/RuleSetQ.h"
 #include "features/UserPolylines.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
@@ -184,8 +186,16 @@ Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
   return options;
 }
 
+// What the Rule Set Q preparation did, for the report.
+struct FeaturePreparation {
+  int64_t crossing_pieces = 0;  // polylines added by splitting at crossings
+  int64_t star_vertices = 0;
+  std::shared_ptr<const JunctionCurves> junctions;  // null when junctions are off
+};
+
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
-                           const RunControl& control, std::unordered_map<int, CurveOrigin>& origins) {
+                           const RunControl& control, std::unordered_map<int, CurveOrigin>& origins,
+                           FeaturePreparation& preparation) {
   FeatureGraph all;
   if (!job.features) return all;
   double edgeSize = table.defaults.edge_size;
@@ -207,6 +217,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg, &control));
     clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
   }
+  preparation.junctions = junctions;
   clipped = removeCoincidentFeatures(clipped, oracle);
   std::vector<std::shared_ptr<const UserCurve>> userCurves(job.user_polylines.size());
   for (size_t i = 0; i < job.user_polyline_curves.size() && i < userCurves.size(); ++i)
@@ -215,9 +226,21 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   if (!job.user_polylines.empty()) {
     const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize);
     clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
-    // Chords of curved CAD edges are up to 2 % of the edge size off the curve (CurveSampling).
-    clipped = splitAtCrossings(clipped, 0.025 * edgeSize);
   }
+  // Rule Set Q (thesis §3.2.2). Sharp edges of different inputs can cross mid-segment (edges
+  // of two parts on a common plane), so every graph is split, not only one with user curves.
+  // User curves snap onto CAD chords within 2.5 % of the edge size (chords of curved CAD edges
+  // are up to 2 % off the curve); two CAD curves cross where their chords come within twice
+  // the sampling sagitta, but not within an edge size of an end they share (part.step has
+  // curves leaving a vertex at under a degree).
+  const size_t unsplit = clipped.polylines.size();
+  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()),
+                             edgeSize);
+  preparation.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
+  // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
+  const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());
+  preparation.star_vertices = static_cast<int64_t>(stars.size());
+  clipped = equalizeStarSegments(clipped, stars);
   for (const FeaturePolyline& pl : clipped.polylines)
     origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
                          pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr,
@@ -453,10 +476,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("features", 0);
   std::unordered_map<int, CurveOrigin> origins;
-  const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins);
+  FeaturePreparation preparation;
+  const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins, preparation);
   // 60 degrees: the thesis' termination bound for Rule Set T (§3.3).
   constexpr double kSmallAngleLimitDeg = 60;
-  const std::vector<SmallInputAngle> smallAngles = findSmallInputAngles(oracle, features, kSmallAngleLimitDeg);
+  const std::vector<SmallInputAngle> smallAngles = findSmallInputAngles(oracle, features, kSmallAngleLimitDeg, preparation.junctions.get());
   if (!smallAngles.empty()) {
     const SmallInputAngle& worst = smallAngles.front();
     std::ostringstream message;
@@ -621,10 +645,21 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     report["material_assignment"] = job.material_assignment;
   }
   report["criteria"] = crit;
+  int64_t sharpPolylines = 0, junctionPolylines = 0, userPolylines = 0;
+  for (const FeaturePolyline& pl : features.polylines) {
+    sharpPolylines += pl.edge >= 0;
+    junctionPolylines += pl.junction >= 0;
+    userPolylines += pl.user >= 0;
+  }
   report["features"] = {{"enabled", job.features},
+                        {"sharp_edge_polylines", sharpPolylines},
+                        {"junction_polylines", junctionPolylines},
+                        {"user_polylines", userPolylines},
                         {"sharp_angle_deg", job.sharp_angle_deg},
                         {"junctions", job.junctions},
                         {"polylines", features.polylines.size()},
+                        {"crossing_pieces", preparation.crossing_pieces},
+                        {"star_vertices", preparation.star_vertices},
                         {"protecting_ball_vertices", protectingBalls}};
   json angles = json::array();
   for (const SmallInputAngle& a : smallAngles)
