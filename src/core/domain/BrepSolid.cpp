@@ -382,36 +382,35 @@ class BoxTree {
   // visit(item, t0, t1) for every box the segment meets, [t0, t1] its part of the segment.
   template <class Visit>
   void onSegment(const SegmentBoxTest& segment, Visit&& visit) const {
-    if (nodes_.empty()) return;
-    int stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      double t0, t1;
-      if (!segment.meets(node.box, 0.0, t0, t1)) continue;
-      if (node.count > 0) {
-        for (int i = node.first; i < node.first + node.count; ++i)
-          if (segment.meets(boxes_[i], 0.0, t0, t1)) visit(items_[i], t0, t1);
-      } else {
-        stack[top++] = node.first;
-        stack[top++] = node.first + 1;
-      }
-    }
+    double t0, t1;
+    descend([&](const CGAL::Bbox_3& box) { return segment.meets(box, 0.0, t0, t1); },
+            [&](int i) {
+              if (segment.meets(boxes_[i], 0.0, t0, t1)) visit(items_[i], t0, t1);
+            });
   }
   // visit(item) for every box holding p.
   template <class Visit>
   void atPoint(const gp_XYZ& p, Visit&& visit) const {
+    descend([&](const CGAL::Bbox_3& box) { return holds(box, p); },
+            [&](int i) {
+              if (holds(boxes_[i], p)) visit(items_[i]);
+            });
+  }
+
+ private:
+  // Depth first through the nodes whose box `enters` accepts; atLeaf(i) for every box index
+  // of the leaves reached (the caller tests the item's own box).
+  template <class Enters, class AtLeaf>
+  void descend(Enters&& enters, AtLeaf&& atLeaf) const {
     if (nodes_.empty()) return;
     int stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = nodes_[stack[--top]];
-      if (!holds(node.box, p)) continue;
+      if (!enters(node.box)) continue;
       if (node.count > 0) {
-        for (int i = node.first; i < node.first + node.count; ++i)
-          if (holds(boxes_[i], p)) visit(items_[i]);
+        for (int i = node.first; i < node.first + node.count; ++i) atLeaf(i);
       } else {
         stack[top++] = node.first;
         stack[top++] = node.first + 1;
@@ -419,7 +418,6 @@ class BoxTree {
     }
   }
 
- private:
   struct Node {
     CGAL::Bbox_3 box;
     int first = 0;  // leaf: first box; inner node: index of the first of its two children
