@@ -1712,22 +1712,6 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
   return shape;
 }
 
-TopoDS_Shape readBrepText(const std::string& text, const std::string& name) {
-  TopoDS_Shape shape;
-  try {
-    std::istringstream stream(text);
-    BRep_Builder builder;
-    BRepTools::Read(shape, stream, builder);
-  } catch (const Standard_Failure& failure) {
-    throw InputError("input '" + name + "' has BREP text OpenCASCADE cannot read (" +
-                     std::string(failure.GetMessageString()) + "): pass Shape.exportBrepToString() of a solid");
-  }
-  if (shape.IsNull())
-    throw InputError("input '" + name +
-                     "' has BREP text OpenCASCADE cannot read: pass Shape.exportBrepToString() of a solid");
-  return shape;
-}
-
 // Errors of the constructor name the input; loaders of files name the file as well, since a
 // user may have several inputs with similar names.
 template <class Action>
@@ -1743,6 +1727,23 @@ auto namingTheFile(const std::string& name, const std::string& what, Action acti
 }
 
 }  // namespace
+
+TopoDS_Shape readBrepText(const std::string& text, const std::string& what, const std::string& fix) {
+  TopoDS_Shape shape;
+  try {
+    std::istringstream stream(text);
+    BRep_Builder builder;
+    BRepTools::Read(shape, stream, builder);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " cannot be read by OpenCASCADE (" + std::string(failure.GetMessageString()) + ")" + fix);
+  }
+  if (shape.IsNull()) throw InputError(what + " cannot be read by OpenCASCADE" + fix);
+  return shape;
+}
+
+static TopoDS_Shape readSolidBrepText(const std::string& text, const std::string& name) {
+  return readBrepText(text, "input '" + name + "' (BREP text)", ": pass Shape.exportBrepToString() of a solid");
+}
 
 BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
                                   const std::string& path) {
@@ -1775,7 +1776,7 @@ BrepSolid::Loaded BrepSolid::loadFile(const std::string& path, const std::string
 }
 
 BrepSolid::Loaded BrepSolid::loadBrepText(const std::string& text, const std::string& name, Grouping grouping) {
-  return load(readBrepText(text, name), name, grouping);
+  return load(readSolidBrepText(text, name), name, grouping);
 }
 
 std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const std::string& name) {
@@ -1785,7 +1786,7 @@ std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const st
 }
 
 std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, const std::string& name) {
-  return std::make_shared<BrepSolid>(readBrepText(text, name), name);
+  return std::make_shared<BrepSolid>(readSolidBrepText(text, name), name);
 }
 
 const std::string& BrepSolid::name() const { return impl_->name; }

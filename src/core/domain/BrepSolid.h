@@ -13,6 +13,10 @@
 
 namespace oraclemesh {
 
+// The shape in BREP text (FreeCAD's Shape.exportBrepToString()). An unreadable text is an
+// InputError "<what> cannot be read by OpenCASCADE (<reason>)<fix>".
+TopoDS_Shape readBrepText(const std::string& text, const std::string& what, const std::string& fix);
+
 class BrepSolid : public Source {
  public:
   // How the solids of one file (or BREP text) become oracle inputs: one input per solid in the

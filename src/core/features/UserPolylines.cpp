@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "Error.h"
+#include "domain/BrepSolid.h"
 
 // OpenCASCADE after the project headers (its Handle macro breaks CGAL's).
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -231,16 +232,9 @@ UserCurve::~UserCurve() = default;
 
 std::shared_ptr<const UserCurve> UserCurve::fromBrep(const std::string& text, const std::string& where) {
   const std::string fix = ": give BREP text of one edge (Part.Edge.exportBrepToString()) or leave 'brep' out";
-  TopoDS_Shape shape;
-  try {
-    std::istringstream stream(text);
-    BRep_Builder builder;
-    BRepTools::Read(shape, stream, builder);
-  } catch (const Standard_Failure& failure) {
-    throw InputError(where + " cannot be read by OpenCASCADE (" + failure.GetMessageString() + ")" + fix);
-  }
+  const TopoDS_Shape shape = readBrepText(text, where, fix);
   TopTools_IndexedMapOfShape edges;
-  if (!shape.IsNull()) TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+  TopExp::MapShapes(shape, TopAbs_EDGE, edges);
   if (edges.Extent() != 1) throw InputError(where + " holds " + std::to_string(edges.Extent()) + " edges" + fix);
   const TopoDS_Edge edge = TopoDS::Edge(edges(1));
   if (BRep_Tool::Degenerated(edge)) throw InputError(where + " is a degenerate edge (a point)" + fix);
