@@ -523,9 +523,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     }
     clock.finish("thesis");  // the engine's total; its phases are reported beside it
     for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
-    // Rule Set T bounds radius-edge ratios, which slivers satisfy: they are removed by the same
-    // CGAL perturb/exude step the Mesh_3 engine runs, on a C3T3 rebuilt from this mesh. It must
-    // run before the snap, while the mesh is still the Delaunay triangulation of its points.
+    // Rule Set T bounds radius-edge ratios, which slivers satisfy: they are removed by CGAL's
+    // perturbation, as in the Mesh_3 engine, on a C3T3 rebuilt from this mesh. It must run
+    // before the snap, while the mesh is still the Delaunay triangulation of its points.
     // Exudation is left out: it weights non-feature vertices, and without Mesh_3's protecting
     // balls on the segments that can drop a constrained subsegment from the triangulation (the
     // demo assembly lost 6 of 537); perturbation alone keeps them all and reached the same
