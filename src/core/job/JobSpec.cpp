@@ -309,7 +309,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     if (f.is_boolean()) {
       spec.features = f.get<bool>();
     } else if (f.is_object()) {
-      rejectUnknownKeys(f, {"sharp_angle_deg", "junctions", "polylines"}, "features");
+      rejectUnknownKeys(f, {"sharp_angle_deg", "junctions", "polylines", "planar_faces"}, "features");
       if (f.contains("sharp_angle_deg")) {
         // 0 = no sharp B-rep edges (junctions and polylines as asked).
         const json& angle = f["sharp_angle_deg"];
@@ -323,6 +323,10 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
         spec.junctions = f["junctions"].get<bool>();
       }
       if (f.contains("polylines")) spec.user_polylines = parsePolylines(f["polylines"], spec.user_polyline_curves);
+      if (f.contains("planar_faces")) {
+        if (!f["planar_faces"].is_boolean()) throw InputError("features.planar_faces must be true or false");
+        spec.planar_faces = f["planar_faces"].get<bool>();
+      }
     } else {
       throw InputError("'features' must be false or an object like {\"sharp_angle_deg\": 30}");
     }
@@ -332,6 +336,15 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     spec.engine = job["engine"].is_string() ? job["engine"].get<std::string>() : "";
     if (spec.engine != "cgal" && spec.engine != "thesis")
       throw InputError("engine must be 'cgal' (Mesh_3) or 'thesis' (Rule Set T), got " + job["engine"].dump());
+  }
+  if (spec.planar_faces) {
+    if (spec.engine != "thesis")
+      throw InputError("features.planar_faces needs engine \"thesis\": the 'cgal' engine (Mesh_3) cannot keep planar "
+                       "faces flat; set \"engine\": \"thesis\" or remove features.planar_faces");
+    // The recovery is well posed only where the faces' borders are constrained segments.
+    if (!(spec.sharp_angle_deg > 0) || !spec.junctions)
+      throw InputError("features.planar_faces needs sharp edges and junctions (features.sharp_angle_deg > 0 and "
+                       "features.junctions true): the planar faces' borders must be constrained segments");
   }
   if (job.contains("material_assignment")) {
     const json& m = job["material_assignment"];

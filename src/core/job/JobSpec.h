@@ -53,6 +53,9 @@ struct JobSpec {
   bool features = true;
   double sharp_angle_deg = 30;
   bool junctions = true;  // curves where two inputs' boundaries cross become features
+  // features.planar_faces (thesis engine): planar B-rep faces bounded by sharp edges are meshed
+  // as planes, their 2D Delaunay triangles recovered as facets (thesis §4.1).
+  bool planar_faces = false;
   // features.polylines: the user's own constrained segments (e.g. load-patch outlines drawn
   // on a face, a crack front). Each has at least two distinct consecutive points.
   std::vector<std::vector<Point3>> user_polylines;

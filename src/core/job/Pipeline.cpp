@@ -435,6 +435,25 @@ json qualityJson(const QualityReport& q) {
   return j;
 }
 
+// report.thesis.planar_faces: what the planar-face layer recovered and what it left.
+json planarFacesJson(const PlanarFaceStatistics& stats, const std::vector<SkippedPlanarFace>& skipped,
+                     const HierarchicalOracle& oracle) {
+  json missing = json::array();
+  for (const MissingPlanarTriangle& t : stats.missing_triangles)
+    missing.push_back({{"input", oracle.entries()[t.entry].source->name()}, {"face", t.face},
+                       {"circumcentre", t.circumcentre}, {"circumradius", t.radius}, {"reason", t.reason}});
+  json left = json::array();
+  for (const SkippedPlanarFace& f : skipped)
+    left.push_back({{"input", oracle.entries()[f.entry].source->name()}, {"face", f.face}, {"reason", f.reason}});
+  return {{"faces", stats.faces},
+          {"triangles", stats.triangles},
+          {"missing_at_first_check", stats.missing_at_first_check},
+          {"insertions", stats.insertions},
+          {"missing", stats.missing},
+          {"missing_triangles", missing},
+          {"skipped_faces", left}};
+}
+
 json criteriaJson(const MaterialCriteria& c) {
   return {{"cell_size", c.cell_size},   {"cell_radius_edge_ratio", c.cell_radius_edge_ratio},
           {"facet_size", c.facet_size}, {"facet_distance", c.facet_distance},
@@ -504,6 +523,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     options.initial_points = job.initial_points;
     options.max_vertices = job.max_vertices;
     options.seed = job.seed;
+    std::vector<SkippedPlanarFace> skippedPlanarFaces;
+    if (job.planar_faces) options.planar_faces = findPlanarFaces(oracle, job.sharp_angle_deg, &skippedPlanarFaces);
     // Where the terminator rule may leave cells: curves along small dihedral angles, and the
     // points where curves meet at small angles or cones end.
     for (const SmallInputAngle& a : smallAngles) {
@@ -552,6 +573,12 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                       {"encroached_subsegments", stats.encroached_subsegments},
                       {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
                     {"elements_left", left}};
+    if (job.planar_faces) {
+      engineReport["planar_faces"] = planarFacesJson(stats.planar, skippedPlanarFaces, oracle);
+      if (stats.planar.missing > 0)
+        warnings.push_back(std::to_string(stats.planar.missing) +
+                           " triangle(s) of planar faces are not mesh facets (see report.thesis.planar_faces)");
+    }
     if (!stats.left.empty())
       warnings.push_back(std::to_string(stats.insertions["left_elements"]) +
                          " element(s) still violate their criteria (see report.thesis.elements_left for where and "

@@ -20,6 +20,16 @@
 //   - terminator: a cell that fails only the radius-edge bound and whose circumcentre would
 //     split a subsegment near a small input angle is left, and no point closer than the
 //     terminator length to an existing vertex is inserted; every element left is listed.
+// Planar faces (thesis §4.1, "planar input polygons", left unfinished there; job option
+// features.planar_faces), a layer between T1 and T2:
+//   TP   a triangle of the 2D Delaunay triangulation of the vertices on a planar face's plane,
+//        restricted to the face (PlanarFacets.h), is no facet of the 3D triangulation:
+//        TP.1 its circumcentre encroaches a subsegment -> split the subsegment (as T2.1);
+//        TP.2 else insert the circumcentre if it lies on the face.
+//   The 2D triangulations are rebuilt when the other queues are empty (rebuilding them after
+//   every insertion would cost more than the refinement); the triangles found missing then
+//   go before T2 and T3. Cells with an edge on a planar face take their material from the
+//   barycentre: a flat cell on the face may have its circumcentre across the plane.
 #include "refine/ThesisEngine.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -30,6 +40,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <queue>
 #include <random>
 #include <sstream>
@@ -37,6 +48,7 @@
 
 #include "Error.h"
 #include "features/RuleSetQ.h"
+#include "refine/PlanarFacets.h"
 
 namespace oraclemesh {
 namespace {
@@ -162,6 +174,10 @@ class RuleSetTRefiner {
       throw;
     }
     phase("refine");
+    if (!options_.planar_faces.empty()) {
+      finalPlanarCheck();
+      phase("planar_check");
+    }
     TetMesh mesh = extract();
     listLeftElements();
     phase("extract");
@@ -177,6 +193,7 @@ class RuleSetTRefiner {
     v->info().curve = curve;
     v->info().far = far;
     segmentsAt_.emplace_back();
+    notePlanarFaces(v);
   }
 
   double length(const Subsegment& s) const { return std::sqrt(CGAL::squared_distance(s.a->point(), s.b->point())); }
@@ -282,14 +299,19 @@ class RuleSetTRefiner {
                                             c->vertex(3)->point());
     info.circumcentre = toPoint3(cc);
     info.radius = std::sqrt(CGAL::squared_distance(cc, c->vertex(0)->point()));
+    if (planarFaceOfCell(c) >= 0) useCircleCentre(c, info);
     info.centreLabel = labelOf(info.circumcentre);
-    if (options_.assignment == MaterialAssignment::Circumcenter) {
+    if (options_.assignment == MaterialAssignment::Circumcenter && !hasEdgeOnPlanarFace(c)) {
       info.label = info.centreLabel;
     } else {
-      Point3 bary{0, 0, 0};
-      for (int k = 0; k < 4; ++k) bary = bary + 0.25 * toPoint3(c->vertex(k)->point());
-      info.label = labelOf(bary);
+      info.label = labelOf(barycentre(c));
     }
+  }
+
+  static Point3 barycentre(CH c) {
+    Point3 bary{0, 0, 0};
+    for (int k = 0; k < 4; ++k) bary = bary + 0.25 * toPoint3(c->vertex(k)->point());
+    return bary;
   }
 
   // The dual Voronoi edge of facet (c, i): circumcentre to circumcentre, or a ray from the
@@ -596,7 +618,7 @@ class RuleSetTRefiner {
     int64_t seeds = static_cast<int64_t>(dt_.number_of_vertices()) - 8;
     for (const StarVertex& sv : findStarVertices(features_, 10 * oracle_.tolerance())) {
       Star star;
-      star.vertex = dt_.nearest_vertex(toCgal(sv.point));
+        star.vertex = dt_.nearest_vertex(toCgal(sv.point));
       star.lmin = sv.shortest_incident_length;
       // Angles between the curves leaving the star vertex (first segments of the polylines).
       std::vector<Point3> directions;
@@ -811,7 +833,7 @@ class RuleSetTRefiner {
         control_.checkpoint();
         if ((steps & 4095) == 0) control_.report("refine", std::min(0.99, dt_.number_of_vertices() / expected));
       }
-      if (refineOneSegment() || refineOneFacet() || refineOneCell()) continue;
+      if (refineOneSegment() || refineOnePlanarTriangle() || refineOneFacet() || refineOneCell()) continue;
       // The queues are empty: one sweep makes sure no subsegment is left encroached.
       bool again = false;
       for (size_t s = 0; s < segments_.size(); ++s)
@@ -820,7 +842,230 @@ class RuleSetTRefiner {
           pushSegment(static_cast<int>(s));
           again = true;
         }
+      if (!again) again = queueMissingPlanarTriangles();
       if (!again) break;
+    }
+  }
+
+  // ------------------------------------------------------- planar faces (thesis §4.1)
+  // Records on which planar faces' planes a new vertex lies (within the oracle tolerance:
+  // exact crossings, splits of straight segments and circumcentres put there all do).
+  void notePlanarFaces(VH v) {
+    if (options_.planar_faces.empty()) return;
+    planarVertices_.resize(options_.planar_faces.size());
+    planarFacesOfVertex_.resize(static_cast<size_t>(nextVertexId_));
+    if (v->info().far) return;
+    const Point3 p = toPoint3(v->point());
+    for (size_t f = 0; f < options_.planar_faces.size(); ++f) {
+      const PlanarFace& face = options_.planar_faces[f];
+      if (!face.box.contains(p) || std::abs(face.height(p)) > oracle_.tolerance()) continue;
+      planarVertices_[f].push_back(v);
+      planarFacesOfVertex_[v->info().id].push_back(static_cast<int>(f));
+    }
+  }
+
+  bool hasEdgeOnPlanarFace(CH c) const {
+    if (planarFacesOfVertex_.empty()) return false;
+    for (int a = 0; a < 4; ++a) {
+      if (dt_.is_infinite(c->vertex(a))) return false;
+      const auto& fa = planarFacesOfVertex_[c->vertex(a)->info().id];
+      if (fa.empty()) continue;
+      for (int b = a + 1; b < 4; ++b) {
+        if (dt_.is_infinite(c->vertex(b))) return false;
+        for (int f : planarFacesOfVertex_[c->vertex(b)->info().id])
+          if (std::find(fa.begin(), fa.end(), f) != fa.end()) return true;
+      }
+    }
+    return false;
+  }
+
+  // The planar face all four corners of a cell lie on, or -1.
+  int planarFaceOfCell(CH c) const {
+    if (planarFacesOfVertex_.empty()) return -1;
+    for (int k = 0; k < 4; ++k)
+      if (dt_.is_infinite(c->vertex(k))) return -1;
+    for (int f : planarFacesOfVertex_[c->vertex(0)->info().id]) {
+      bool all = true;
+      for (int k = 1; k < 4 && all; ++k) {
+        const auto& faces = planarFacesOfVertex_[c->vertex(k)->info().id];
+        all = std::find(faces.begin(), faces.end(), f) != faces.end();
+      }
+      if (all) return f;
+    }
+    return -1;
+  }
+
+  // A cell with its four corners on one planar face is flat (four cocircular points of the
+  // face): its circumsphere is undefined, and the circumcentre computed from rounded
+  // coordinates lands anywhere, or at infinity. The centre of the circle through the corners
+  // stands in for it: a point of the face, which splits the cocircular corners once inserted.
+  void useCircleCentre(CH c, CellInfo& info) const {
+    int skip = 0;  // the corner left out: the other three span the largest triangle
+    double largest = -1;
+    for (int k = 0; k < 4; ++k) {
+      const CgalPoint &a = c->vertex((k + 1) & 3)->point(), &b = c->vertex((k + 2) & 3)->point(),
+                      &d = c->vertex((k + 3) & 3)->point();
+      const double area = std::sqrt(CGAL::squared_area(a, b, d));
+      if (area > largest) largest = area, skip = k;
+    }
+    const CgalPoint &a = c->vertex((skip + 1) & 3)->point(), &b = c->vertex((skip + 2) & 3)->point(),
+                    &d = c->vertex((skip + 3) & 3)->point();
+    const CgalPoint centre = CGAL::circumcenter(a, b, d);
+    info.circumcentre = toPoint3(centre);
+    info.radius = std::sqrt(CGAL::squared_distance(centre, a));
+  }
+
+  struct QueuedPlanarTriangle {
+    int face = -1;
+    std::array<VH, 3> corners;
+    Point3 circumcentre{};
+    double radius = 0;
+    size_t pointsAtCheck = 0;  // vertices on the face when the triangle was found
+    CH flatCell;               // set for a flat cell on the face (its circle centre goes in)
+    uint64_t flatStamp = 0;
+  };
+
+  static std::array<int64_t, 3> cornerKey(const std::array<VH, 3>& corners) {
+    std::array<int64_t, 3> key{corners[0]->info().id, corners[1]->info().id, corners[2]->info().id};
+    std::sort(key.begin(), key.end());
+    return key;
+  }
+
+  bool isFacet(const std::array<VH, 3>& corners) const {
+    CH c;
+    int i, j, k;
+    return dt_.is_facet(corners[0], corners[1], corners[2], c, i, j, k);
+  }
+
+  // The restricted 2D Delaunay triangles of face f; only those that are no 3D facet when
+  // `missingOnly`.
+  std::vector<QueuedPlanarTriangle> planarTriangles(size_t f, bool missingOnly) const {
+    const std::vector<VH>& vertices = planarVertices_[f];
+    std::vector<Point3> points;
+    points.reserve(vertices.size());
+    for (VH v : vertices) points.push_back(toPoint3(v->point()));
+    auto cornersOf = [&](const std::array<int, 3>& t) {
+      return std::array<VH, 3>{vertices[t[0]], vertices[t[1]], vertices[t[2]]};
+    };
+    std::function<bool(const std::array<int, 3>&)> wanted;
+    if (missingOnly) wanted = [&](const std::array<int, 3>& t) { return !isFacet(cornersOf(t)); };
+    std::vector<QueuedPlanarTriangle> result;
+    for (const PlanarTriangle& t : restrictedPlanarTriangles(options_.planar_faces[f], points, oracle_, wanted))
+      result.push_back({static_cast<int>(f), cornersOf(t.corners), t.circumcentre, t.radius, vertices.size()});
+    return result;
+  }
+
+  // At a fixpoint of the other rules: queues the planar triangles the 3D triangulation lacks.
+  // True when there are some and the triangulation changed since the last look (otherwise
+  // the answer, and what the layer can do about it, are the same as last time).
+  bool queueMissingPlanarTriangles() {
+    if (options_.planar_faces.empty()) return false;
+    const int64_t vertices = static_cast<int64_t>(dt_.number_of_vertices());
+    if (vertices == verticesAtPlanarCheck_) return false;
+    verticesAtPlanarCheck_ = vertices;
+    planarQueue_.clear();
+    for (size_t f = 0; f < options_.planar_faces.size(); ++f) {
+      std::vector<QueuedPlanarTriangle> missing = planarTriangles(f, true);
+      planarQueue_.insert(planarQueue_.end(), missing.begin(), missing.end());
+    }
+    if (!planarChecked_) stats_.planar.missing_at_first_check = static_cast<int64_t>(planarQueue_.size());
+    planarChecked_ = true;
+    // Flat cells on a face whatever their label (one labelled outside between two materials
+    // would be a gap of no thickness in the interface).
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      const int f = planarFaceOfCell(c);
+      if (f < 0) continue;
+      QueuedPlanarTriangle flat;
+      flat.face = f;
+      flat.corners = {c->vertex(0), c->vertex(1), c->vertex(2)};
+      flat.circumcentre = c->info().circumcentre;
+      flat.radius = c->info().radius;
+      flat.pointsAtCheck = planarVertices_[f].size();
+      flat.flatCell = c;
+      flat.flatStamp = c->info().stamp;
+      planarQueue_.push_back(flat);
+    }
+    // Popped from the back: the largest circumradius first; ties in a stable order.
+    std::stable_sort(planarQueue_.begin(), planarQueue_.end(),
+                     [](const QueuedPlanarTriangle& a, const QueuedPlanarTriangle& b) { return a.radius < b.radius; });
+    return !planarQueue_.empty();
+  }
+
+  // A vertex put on the face since the triangle was found lies inside its circumcircle: the
+  // triangle is no longer one of the face's 2D Delaunay triangles.
+  bool planarTriangleGone(const QueuedPlanarTriangle& t) const {
+    const std::vector<VH>& vertices = planarVertices_[t.face];
+    for (size_t k = t.pointsAtCheck; k < vertices.size(); ++k)
+      if (distance(toPoint3(vertices[k]->point()), t.circumcentre) < t.radius * (1 - 1e-9)) return true;
+    return false;
+  }
+
+  bool refineOnePlanarTriangle() {
+    while (!planarQueue_.empty()) {
+      const QueuedPlanarTriangle t = planarQueue_.back();
+      planarQueue_.pop_back();
+      if (t.flatCell != CH() ? t.flatCell->info().stamp != t.flatStamp : isFacet(t.corners)) continue;
+      if (planarTriangleGone(t)) continue;
+      auto leaveTriangle = [&](const std::string& why) { planarLeft_[cornerKey(t.corners)] = why; };
+      if (t.radius < terminatorLength_) {
+        leaveTriangle("its circumradius is below the terminator length");
+        continue;
+      }
+      const Zone zone = examine(t.circumcentre, t.corners[0]->cell());
+      if (zone.duplicate) {
+        leaveTriangle("its circumcentre is a vertex already");
+        continue;
+      }
+      if (zone.encroached >= 0) {  // TP.1
+        if (length(segments_[zone.encroached]) / 2 < terminatorLength_) {
+          leaveTriangle("its circumcentre encroaches a subsegment shorter than the terminator length");
+          continue;
+        }
+        if (splitEncroached(zone.encroached, "TP.1")) {
+          ++stats_.planar.insertions;
+          return true;
+        }
+        leaveTriangle("the subsegment its circumcentre encroaches cannot be split");
+        continue;
+      }
+      // Only a point of the face itself goes in, exactly where the oracle puts the face.
+      Point3 onFace;
+      if (!onCompositeFace(options_.planar_faces[t.face], t.circumcentre, oracle_, &onFace)) {
+        leaveTriangle("its circumcentre lies off the face's part of the composite boundary");
+        continue;
+      }
+      const Zone exact = examine(onFace, t.corners[0]->cell());
+      if (exact.duplicate || exact.encroached >= 0 || exact.insertionRadius < terminatorLength_) {
+        leaveTriangle("its circumcentre is closer than the terminator length to a vertex");
+        continue;
+      }
+      commit(exact, 2, -1);  // TP.2
+      ++stats_.insertions["TP.2"];
+      ++stats_.planar.insertions;
+      return true;
+    }
+    return false;
+  }
+
+  void finalPlanarCheck() {
+    constexpr size_t kListed = 200;
+    PlanarFaceStatistics& s = stats_.planar;
+    s.faces = s.triangles = s.missing = 0;
+    s.missing_triangles.clear();
+    for (size_t f = 0; f < options_.planar_faces.size(); ++f) {
+      const std::vector<QueuedPlanarTriangle> triangles = planarTriangles(f, false);
+      if (triangles.empty()) continue;
+      ++s.faces;
+      s.triangles += static_cast<int64_t>(triangles.size());
+      for (const QueuedPlanarTriangle& t : triangles) {
+        if (isFacet(t.corners)) continue;
+        ++s.missing;
+        if (s.missing_triangles.size() >= kListed) continue;
+        const PlanarFace& face = options_.planar_faces[f];
+        auto why = planarLeft_.find(cornerKey(t.corners));
+        s.missing_triangles.push_back({face.entry, face.face, t.circumcentre, t.radius,
+                                       why != planarLeft_.end() ? why->second : "not refined"});
+      }
     }
   }
 
@@ -862,7 +1107,7 @@ class RuleSetTRefiner {
       if (!dt_.is_edge(s.a, s.b, c, i, j)) ++stats_.subsegments_not_edges;
       // The nearest vertex to the midpoint is inside the diametral ball iff any vertex is.
       const CgalPoint m = CGAL::midpoint(s.a->point(), s.b->point());
-      const VH nearest = dt_.nearest_vertex(m, s.a->cell());
+        const VH nearest = dt_.nearest_vertex(m, s.a->cell());
       if (nearest != s.a && nearest != s.b && strictlyInDiametralBall(nearest->point(), s))
         ++stats_.encroached_subsegments;
     }
@@ -936,6 +1181,16 @@ class RuleSetTRefiner {
 
   std::priority_queue<QueueEntry> segmentQueue_, facetQueue_, cellQueue_;
   std::map<std::pair<uint64_t, int>, std::string> leftReasons_;
+
+  // Planar-face layer: the vertices on each face's plane (by face, in insertion order), the
+  // faces each vertex lies on (by vertex id), the triangles found missing, and why the ones
+  // given up on were left.
+  std::vector<std::vector<VH>> planarVertices_;
+  std::vector<std::vector<int>> planarFacesOfVertex_;
+  std::vector<QueuedPlanarTriangle> planarQueue_;
+  std::map<std::array<int64_t, 3>, std::string> planarLeft_;
+  int64_t verticesAtPlanarCheck_ = -1;
+  bool planarChecked_ = false;
 };
 
 void validate(const HierarchicalOracle& oracle, const RuleSetTOptions& options) {

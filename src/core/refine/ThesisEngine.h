@@ -12,6 +12,7 @@
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureGraph.h"
 #include "mesh/TetMesh.h"
+#include "refine/PlanarFacets.h"
 
 namespace oraclemesh {
 
@@ -28,6 +29,27 @@ struct RuleSetTOptions {
   // radius-edge bound are left (terminator rule) instead of splitting segments without end.
   std::vector<int> small_angle_curves;
   std::vector<Point3> small_angle_points;
+  // Planar faces whose triangles are recovered as 3D facets (features.planar_faces; empty =
+  // off). Their borders must be constrained segments of `features` (findPlanarFaces).
+  std::vector<PlanarFace> planar_faces;
+};
+
+// A triangle of a planar face's 2D Delaunay triangulation that is no 3D facet at the end.
+struct MissingPlanarTriangle {
+  int entry = -1, face = -1;
+  Point3 circumcentre{};
+  double radius = 0;
+  std::string reason;  // why its circumcentre was not inserted
+};
+
+// What the planar-face layer did (all zero when it is off).
+struct PlanarFaceStatistics {
+  int64_t faces = 0;                  // planar faces with triangles on the composite boundary
+  int64_t triangles = 0;              // their restricted 2D Delaunay triangles at the end
+  int64_t missing_at_first_check = 0; // of those, not 3D facets when the layer first looked
+  int64_t insertions = 0;             // points the layer inserted (circumcentres, segment splits)
+  int64_t missing = 0;                // not 3D facets at the end
+  std::vector<MissingPlanarTriangle> missing_triangles;  // the first 200 of them
 };
 
 // An element the refiner left although it violates its criteria, and why.
@@ -52,6 +74,7 @@ struct RuleSetTStatistics {
   int64_t subsegments_not_edges = 0;
   int64_t encroached_subsegments = 0;
   int64_t restricted_facets_off_boundary = 0;
+  PlanarFaceStatistics planar;
   // When a limit stops the refinement: the cells with label > 0 at that moment, for inspection.
   TetMesh partial;
 };
