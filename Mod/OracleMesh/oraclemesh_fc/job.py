@@ -415,6 +415,13 @@ def build_job(mesh_obj):
         features = False
     if polylines:
         features["polylines"] = polylines
+    if bool(getattr(mesh_obj, "PlanarFaces", False)):
+        if str(getattr(mesh_obj, "Engine", "cgal")) != "thesis" or not features or not features.get("junctions"):
+            raise MeshInputError(
+                "PlanarFaces of '%s' needs Engine 'thesis', a sharp-edge angle above 0 and "
+                "Junctions on (the planar faces' borders must be kept as mesh edges): set them or "
+                "switch PlanarFaces off" % mesh_obj.Label)
+        features["planar_faces"] = True
 
     job = {
         "inputs": job_inputs,

@@ -71,6 +71,9 @@ PROPERTIES = (
      list(ENGINE_NAMES)),
     ("App::PropertyBool", "Junctions", "Mesh",
      "Keep the curves where inputs meet (material junctions) as mesh edges", True),
+    ("App::PropertyBool", "PlanarFaces", "Mesh",
+     "Keep planar faces bounded by sharp edges flat, e.g. planar contact faces of an assembly "
+     "(engine thesis only; needs a sharp-edge angle above 0 and Junctions)", False),
     ("App::PropertyMap", "InputMaterialNames", "Inputs",
      "Volume group name per input without a FEM material: key = input Name, value = a "
      "material name (group '<name>_Volumes')", None),
@@ -211,6 +214,7 @@ OPTION_PROPERTIES = {
     "max_vertices": "MaxVertices",
     "time_limit": "TimeLimit",
     "junctions": "Junctions",
+    "planar_faces": "PlanarFaces",
     "engine": "Engine",
 }
 
@@ -237,7 +241,8 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
-    and junctions), junctions (bool), engine ("cgal" or "thesis"), optimize, seed, max_vertices, time_limit,
+    and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
+    engine ("cgal" or "thesis"), optimize, seed, max_vertices, time_limit,
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
     ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
     (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).

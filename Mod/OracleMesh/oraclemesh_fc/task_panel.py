@@ -10,7 +10,7 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
   FreeCAD's CalculiX writer reads) or a free name (group '<name>_Volumes').
 - Per-material criteria (cell size, facet distance, facet size, radius-edge ratio; empty =
   the global value), a global cell size and coarse / moderate / fine presets.
-- Engine, sharp-edge angle, junctions, element order, optimisation.
+- Engine, sharp-edge angle, junctions, planar faces, element order, optimisation.
 - Extra edges kept as mesh edges: edges picked in the 3D view, whole sketches or shapes.
 - The report of the last mesh: tets and volume per material, dihedral angles, warnings (the
   core's, and small angles between the faces of an input, see input_checks.py).
@@ -153,6 +153,7 @@ class TaskPanel:
         o.Engine = self.engine.currentData()
         o.SharpAngle = self.sharp_angle.value()
         o.Junctions = self.junctions.isChecked()
+        o.PlanarFaces = self.planar_faces.isChecked()
         o.ElementOrder = self.element_order.currentData()
         o.Optimize = self.optimize.isChecked()
         from .mesh_object import extra_edge_links
@@ -227,6 +228,10 @@ class TaskPanel:
         grid.addRow("Sharp-edge angle", self.sharp_angle)
         self.junctions = QtGui.QCheckBox("Keep junction curves between inputs")
         grid.addRow(self.junctions)
+        self.planar_faces = QtGui.QCheckBox("Keep planar faces flat (thesis engine)")
+        self.planar_faces.setToolTip("Planar faces bounded by sharp edges, such as planar contact "
+                                     "faces of an assembly, are meshed as planes")
+        grid.addRow(self.planar_faces)
         self.element_order = QtGui.QComboBox()
         self.element_order.addItem("1 - linear (C3D4)", 1)
         self.element_order.addItem("2 - quadratic (C3D10)", 2)
@@ -281,6 +286,7 @@ class TaskPanel:
         self.engine.setCurrentIndex(max(self.engine.findData(o.Engine), 0))
         self.sharp_angle.setValue(jobmod._value(o.SharpAngle))
         self.junctions.setChecked(bool(o.Junctions))
+        self.planar_faces.setChecked(bool(getattr(o, "PlanarFaces", False)))
         self.element_order.setCurrentIndex(max(self.element_order.findData(o.ElementOrder), 0))
         self.optimize.setChecked(bool(o.Optimize))
         self.refresh_extra_edges()
