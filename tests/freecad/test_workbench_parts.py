@@ -50,4 +50,5 @@ def test_workbench_parts(run_freecad):
 
     assert all(r["restored_properties"].values()), r["restored_properties"]
     assert r["restored_engine"] == "cgal" and r["restored_junctions"] is True
+    assert r["restored_planar_faces"] is False  # off unless asked for
     assert r["restored_meshes"], r["restored_status"]

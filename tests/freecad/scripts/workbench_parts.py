@@ -7,7 +7,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
-NEW_PROPERTIES = ("Engine", "Junctions", "InputMaterialNames", "FeatureEdges")
+NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges")
 
 
 def check(params):
@@ -86,6 +86,7 @@ def check(params):
     out["restored_properties"] = {n: hasattr(old, n) for n in NEW_PROPERTIES}
     out["restored_engine"] = old.Engine
     out["restored_junctions"] = old.Junctions
+    out["restored_planar_faces"] = old.PlanarFaces
     doc.recompute()
     out["restored_meshes"] = old.isValid() and old.FemMesh.VolumeCount > 0
     out["restored_status"] = old.Status
