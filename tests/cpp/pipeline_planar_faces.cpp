@@ -275,6 +275,25 @@ TEST(PlanarFaces, WedgeFacesArePlanesOnlyWithTheOption) {
             << " s, planar layer " << runs[true].report["thesis"]["planar_faces"].dump() << "\n";
 }
 
+// A face is recovered only where every border is a constrained segment: at a sharp-edge
+// angle of 95 degrees the wedge's right-angled edges are not sharp, so every face has a border
+// that is no segment, and each is listed with the reason instead.
+TEST(PlanarFaces, FacesWithBordersThatAreNotSegmentsAreListed) {
+  json job = assemblyJob({{"Wedge", test::wedge(40, 30, 10), 1}},
+                         {{"default", {{"cell_size", 8}, {"facet_size", 8}, {"facet_distance", 0.8}, {"edge_size", 4}}}});
+  job["features"] = {{"planar_faces", true}, {"sharp_angle_deg", 95}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const json& planar = r.report.at("thesis").at("planar_faces");
+  EXPECT_EQ(planar.at("faces"), 0) << planar.dump();
+  EXPECT_EQ(planar.at("triangles"), 0) << planar.dump();
+  ASSERT_EQ(planar.at("skipped_faces").size(), 5u) << planar.dump();
+  for (const json& f : planar.at("skipped_faces")) {
+    EXPECT_EQ(f.at("input"), "Wedge");
+    EXPECT_NE(f.at("reason").get<std::string>().find("is not sharp at features.sharp_angle_deg"), std::string::npos)
+        << f.dump();
+  }
+}
+
 TEST(PlanarFaces, SameJobSameMesh) {
   const JobResult& first = demoRun(true);
   json job = test::demoAssemblyJob(1, "thesis");

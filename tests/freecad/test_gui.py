@@ -72,6 +72,7 @@ def test_task_panel_reorders_and_meshes(gui):
     assert {"OracleMesh_MeshSelection", "OracleMesh_Edit", "OracleMesh_Export",
             "OracleMesh_Histogram"} <= set(gui["commands"])
     assert gui["panel_open"] and gui["mesh_in_analysis"]
+    assert gui["planar_faces_shown"] == [False, False] and gui["planar_faces_written"] is True
     assert gui["panel_rows"] == ["Pin", "Plate"]  # selection order = priority
     assert gui["panel_materials"] == ["Steel", "Aluminium"]  # from the FEM materials
     assert gui["rows_with_cut"] == [["CornerCut", "cut"], ["Pin", "material"],

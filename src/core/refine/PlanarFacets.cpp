@@ -8,10 +8,8 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
-#include <BRepGProp.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
-#include <GProp_GProps.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -90,9 +88,6 @@ std::vector<PlanarFace> findPlanarFaces(const HierarchicalOracle& oracle, double
       const double grow = 10 * oracle.tolerance();
       pf.box.add(Point3{x0 - grow, y0 - grow, z0 - grow});
       pf.box.add(Point3{x1 + grow, y1 + grow, z1 + grow});
-      GProp_GProps props;
-      BRepGProp::SurfaceProperties(topoFace, props);
-      pf.area = props.Mass();
       faces.push_back(pf);
     }
   }

@@ -21,8 +21,7 @@ struct PlanarFace {
   int entry = -1;  // oracle entry
   int face = -1;   // B-rep face index, the boundary patch id of the entry's crossings
   Point3 origin{}, u{}, v{}, normal{};
-  Bbox box;         // of the face, grown by the oracle's tolerance
-  double area = 0;  // of the whole B-rep face (the composite boundary may show less of it)
+  Bbox box;  // of the face, grown by ten times the oracle's tolerance
 
   double height(const Point3& p) const { return dot(p - origin, normal); }
   std::array<double, 2> toPlane(const Point3& p) const { return {dot(p - origin, u), dot(p - origin, v)}; }

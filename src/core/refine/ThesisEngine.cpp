@@ -618,7 +618,7 @@ class RuleSetTRefiner {
     int64_t seeds = static_cast<int64_t>(dt_.number_of_vertices()) - 8;
     for (const StarVertex& sv : findStarVertices(features_, 10 * oracle_.tolerance())) {
       Star star;
-        star.vertex = dt_.nearest_vertex(toCgal(sv.point));
+      star.vertex = dt_.nearest_vertex(toCgal(sv.point));
       star.lmin = sv.shortest_incident_length;
       // Angles between the curves leaving the star vertex (first segments of the polylines).
       std::vector<Point3> directions;

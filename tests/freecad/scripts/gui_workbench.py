@@ -179,6 +179,14 @@ def check(out):
     out["cuts"] = [o.Name for o in mesh.Cuts]
     out["inputs"] = [o.Name for o in mesh.Inputs]
     out["input_sizes"] = dict(mesh.InputSizes)
+    # The planar-faces checkbox shows and writes PlanarFaces (off by default; the cgal
+    # engine would refuse it, so it is switched off again before the next mesh).
+    out["planar_faces_shown"] = [panel.planar_faces.isChecked(), mesh.PlanarFaces]
+    panel.planar_faces.setChecked(True)
+    panel.write_object()
+    out["planar_faces_written"] = mesh.PlanarFaces
+    panel.planar_faces.setChecked(False)
+    panel.write_object()
 
     step("swap Pin and Plate, mesh again")
     panel.select_row(1)  # Pin
