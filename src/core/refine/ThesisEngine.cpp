@@ -299,13 +299,16 @@ class RuleSetTRefiner {
                                             c->vertex(3)->point());
     info.circumcentre = toPoint3(cc);
     info.radius = std::sqrt(CGAL::squared_distance(cc, c->vertex(0)->point()));
-    if (planarFaceOfCell(c) >= 0) useCircleCentre(c, info);
+    const bool byBarycentre = options_.assignment == MaterialAssignment::Barycenter || hasEdgeOnPlanarFace(c);
+    // Four coplanar corners (on a planar face, or boundary points of one plane elsewhere)
+    // leave the circumcentre at infinity or far off. A cell labelled by its circumcentre is
+    // then outside and never refined; one labelled by its barycentre may be, and such a
+    // point must never be inserted.
+    const Point3 middle = 0.5 * (oracle_.bbox().min + oracle_.bbox().max);
+    if (byBarycentre && (planarFaceOfCell(c) >= 0 || !(distance(info.circumcentre, middle) < reach_)))
+      useCircleCentre(c, info);
     info.centreLabel = labelOf(info.circumcentre);
-    if (options_.assignment == MaterialAssignment::Circumcenter && !hasEdgeOnPlanarFace(c)) {
-      info.label = info.centreLabel;
-    } else {
-      info.label = labelOf(barycentre(c));
-    }
+    info.label = byBarycentre ? labelOf(barycentre(c)) : info.centreLabel;
   }
 
   static Point3 barycentre(CH c) {
@@ -899,6 +902,7 @@ class RuleSetTRefiner {
   // face): its circumsphere is undefined, and the circumcentre computed from rounded
   // coordinates lands anywhere, or at infinity. The centre of the circle through the corners
   // stands in for it: a point of the face, which splits the cocircular corners once inserted.
+  // (The same for any cell whose circumcentre lies beyond the bounding corners.)
   void useCircleCentre(CH c, CellInfo& info) const {
     int skip = 0;  // the corner left out: the other three span the largest triangle
     double largest = -1;
