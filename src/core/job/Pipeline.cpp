@@ -244,8 +244,8 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // the sampling sagitta, but not within an edge size of an end they share (part.step has
   // curves leaving a vertex at under a degree).
   const size_t unsplit = clipped.polylines.size();
-  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * (sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal())),
-                             edgeSize);
+  const double crossingSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
+  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize);
   preparation.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
   // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
   const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());

@@ -576,10 +576,10 @@ class RuleSetTRefiner {
   // segments are straight input pieces; our polylines sample curves, so their inner samples
   // are not star vertices either): where exactly two curves meet and their end segments make
   // an angle of 90 degrees or more, as at a B-rep vertex between a straight edge and the arc
-  // that continues it, no point of one curve lies inside the diametral ball of a subsegment
-  // of the other. Q1 exists only to keep segments at a star vertex from encroaching each other
-  // (thesis lemma 3.2.2.1), so such a vertex is split like any curve point (T1.2), without
-  // the l_min,i / 3 pieces that would make the mesh fine around it.
+  // that continues it, no point of one end segment lies inside the diametral ball of the
+  // other or of a piece of it. Q1 exists only to keep segments at a star vertex from
+  // encroaching each other (thesis lemma 3.2.2.1), so such a vertex is split like any curve
+  // point (T1.2), without the l_min,i / 3 pieces that would make the mesh fine around it.
   // The one vertex of a closed curve stays a star vertex, as in the thesis: without the T1.1
   // splits there an evenly sampled circle is a regular polygon, cospherical with every point
   // on its axis, and the slivers of such a mesh kept CGAL's perturbation busy (demo assembly:
