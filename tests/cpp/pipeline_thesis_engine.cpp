@@ -6,6 +6,11 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Tool.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -198,6 +203,48 @@ TEST(ThesisEngine, SameJobSameMeshAndFiguresAgainstMesh3) {
   EXPECT_TRUE(plain.mesh.feature_edges.empty());
   std::cout << "[figures] thesis featureless: " << plain.mesh.tets.size() << " tets, " << plain.mesh.points.size()
             << " vertices, " << plain.report["seconds"]["thesis"] << " s in the engine\n";
+}
+
+// A tray with rounded corners (box 12 x 9 x 3, vertical edges filleted, radius 2), as the
+// implant_in_bone example's: its top and bottom outlines are straight edges continued
+// tangentially by arcs. Their 8 + 8 joints are polyline ends shared by two curves, but not star
+// vertices for the engine (segments meeting at 180 degrees cannot encroach each other), so
+// no T1.1 piece of l_min,i / 3 refines the mesh there; Q1 is applied once (the pipeline does
+// not equalise for this engine), and the arcs are sampled to the facet distance, not finer.
+TEST(ThesisEngine, TangentJointsOfARoundedTrayAreNotStarVertices) {
+  BRepPrimAPI_MakeBox box(gp_Pnt(0, 0, 0), 12, 9, 3);
+  BRepFilletAPI_MakeFillet fillet(box.Shape());
+  for (TopExp_Explorer e(box.Shape(), TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    TopExp_Explorer v(edge, TopAbs_VERTEX);
+    const gp_Pnt a = BRep_Tool::Pnt(TopoDS::Vertex(v.Current()));
+    v.Next();
+    const gp_Pnt b = BRep_Tool::Pnt(TopoDS::Vertex(v.Current()));
+    if (std::abs(a.Z() - b.Z()) > 1) fillet.Add(2.0, edge);
+  }
+  const double edgeSize = 1, facetDistance = 0.1;
+  json job = {{"inputs", {{{"name", "Tray"}, {"brep", test::brepText(fillet.Shape())}, {"material", 1}}}},
+              {"criteria",
+               {{"default",
+                 {{"cell_size", 1.5}, {"facet_size", 1.5}, {"facet_distance", facetDistance}, {"edge_size", edgeSize}}}}},
+              {"engine", "thesis"},
+              {"element_order", 1},
+              {"seed", 0}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(r.report.at("features").at("star_vertices").get<int>(), 16);
+  EXPECT_EQ(r.report.at("thesis").at("star_vertices").get<int>(), 0);
+  EXPECT_EQ(r.report.at("thesis").at("rule_insertions").value("T1.1", 0), 0);
+  const json& check = r.report.at("thesis").at("final_check");
+  EXPECT_EQ(check.at("subsegments_not_edges"), 0);
+  EXPECT_EQ(check.at("encroached_subsegments"), 0);
+  // Arcs of radius 2 at a sagitta of 0.02 mm (the Mesh_3 engine's bound) would be sampled at
+  // 0.39 mm, and the old double Q1 left pieces of l_min,i / 9 at the joints.
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const auto& e : r.mesh.feature_edges) shortest = std::min(shortest, distance(r.mesh.points[e[0]], r.mesh.points[e[1]]));
+  ASSERT_FALSE(r.mesh.feature_edges.empty());
+  EXPECT_GT(shortest, 0.45 * edgeSize) << "constrained subsegments refined below 0.45 edge_size";
+  const double exact = test::volumeOf(fillet.Shape());
+  EXPECT_NEAR(test::volumePerMaterial(r.mesh).at(1), exact, 0.005 * exact);
 }
 
 // Rule Set T bounds radius-edge ratios, not dihedral angles: the pipeline's CGAL sliver

@@ -82,7 +82,7 @@ bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, do
 }
 
 FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
-                               double maxSegmentLength) {
+                               double maxSegmentLength, double sagittaTolerance) {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("input '" + solid.name() + "': the feature edge size must be a positive number (edge_size), got " +
                      std::to_string(maxSegmentLength));
@@ -90,7 +90,7 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
     throw InputError("features.sharp_angle_deg must be between 0 and 180 degrees, got " + std::to_string(sharpAngleDeg));
   const double diagonal = solid.bbox().diagonal();
   const double cosThreshold = std::cos(sharpAngleDeg * kPi / 180);
-  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
+  if (!(sagittaTolerance > 0)) sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
 
   // One exact point per corner, shared by every polyline ending there (Mesh_3 finds corners
   // by bitwise-equal end points). Distinct vertices that coincide within their tolerance

@@ -18,8 +18,9 @@ namespace oraclemesh {
 // no longer than `maxSegmentLength` and a small chord sagitta.
 // Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
+// sagittaTolerance > 0 replaces featureSagittaTolerance (CurveSampling.h) as the chord bound.
 FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
-                               double maxSegmentLength);
+                               double maxSegmentLength, double sagittaTolerance = 0);
 
 // Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on
 // that face); false where the surface is singular (apex, pole).

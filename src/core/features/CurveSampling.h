@@ -25,4 +25,14 @@ inline double featureSagittaTolerance(double maxSegmentLength, double diagonal) 
   return std::min(0.02 * maxSegmentLength, 1e-3 * diagonal);
 }
 
+// The same bound for the thesis engine, whose constrained segments are the polylines'
+// segments: every sample becomes a mesh vertex and T1 only ever splits, so a sampling finer
+// than the surface approximation asks for refines the mesh along every curved edge (with a
+// radius-edge bound of 1.1 that spreads far). Chords stay within half the smallest
+// facet_distance of their curve, and within 5 % of the segment length so that moving the split
+// points from the chords onto the curves after refinement stays small against the elements.
+inline double thesisSagittaTolerance(double maxSegmentLength, double facetDistance) {
+  return std::min(0.05 * maxSegmentLength, 0.5 * facetDistance);
+}
+
 }  // namespace oraclemesh

@@ -360,11 +360,11 @@ JunctionCurves JunctionCurves::compute(const HierarchicalOracle& oracle, double 
   return result;
 }
 
-FeatureGraph JunctionCurves::polylines(double maxSegmentLength) const {
+FeatureGraph JunctionCurves::polylines(double maxSegmentLength, double sagittaTolerance) const {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("the feature edge size must be a positive number (edge_size), got " +
                      std::to_string(maxSegmentLength));
-  const double sagittaTolerance = featureSagittaTolerance(maxSegmentLength, impl_->diagonal);
+  if (!(sagittaTolerance > 0)) sagittaTolerance = featureSagittaTolerance(maxSegmentLength, impl_->diagonal);
   FeatureGraph graph;
   try {
     for (size_t index = 0; index < impl_->junctions.size(); ++index) {

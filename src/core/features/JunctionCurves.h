@@ -46,8 +46,9 @@ class JunctionCurves {
   // of its section edge, so junctions sharing a vertex share the point bitwise), points on the
   // exact curve, segments no longer than maxSegmentLength and a small chord sagitta. A closed
   // curve kept whole is a closed polyline (front == back). `junction` is set, `source` and
-  // `edge` are -1; curve ids are 0, 1, ... in output order.
-  FeatureGraph polylines(double maxSegmentLength) const;
+  // `edge` are -1; curve ids are 0, 1, ... in output order. sagittaTolerance > 0 replaces
+  // featureSagittaTolerance (CurveSampling.h) as the chord bound.
+  FeatureGraph polylines(double maxSegmentLength, double sagittaTolerance = 0) const;
   // Nearest point of junction i's section edge to p.
   BoundaryProjection projectOnCurve(int junction, const Point3& p) const;
 

@@ -193,6 +193,15 @@ struct FeaturePreparation {
   std::shared_ptr<const JunctionCurves> junctions;  // null when junctions are off
 };
 
+// The chord bound of the feature polylines: 0 (the default, featureSagittaTolerance) except
+// for the thesis engine, whose polyline samples are all mesh vertices (thesisSagittaTolerance).
+double thesisEngineSagitta(const JobSpec& job, const CriteriaTable& table, double edgeSize) {
+  if (job.engine != "thesis") return 0;
+  double facetDistance = table.defaults.facet_distance;
+  for (const auto& [id, c] : table.per_material) facetDistance = std::min(facetDistance, c.facet_distance);
+  return thesisSagittaTolerance(edgeSize, facetDistance);
+}
+
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
                            const RunControl& control, std::unordered_map<int, CurveOrigin>& origins,
                            FeaturePreparation& preparation) {
@@ -200,11 +209,12 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   if (!job.features) return all;
   double edgeSize = table.defaults.edge_size;
   for (const auto& [id, c] : table.per_material) edgeSize = std::min(edgeSize, c.edge_size);
+  const double sagitta = thesisEngineSagitta(job, table, edgeSize);
   int nextCurve = 0;
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
     const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[i].source.get());
     if (!solid) continue;
-    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize);
+    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta);
     for (FeaturePolyline& pl : g.polylines) {
       pl.curve = nextCurve++;  // extraction numbers per solid; the graph needs global ids
       all.polylines.push_back(std::move(pl));
@@ -215,7 +225,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   std::shared_ptr<const JunctionCurves> junctions;
   if (job.junctions) {
     junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg, &control));
-    clipped = joinJunctions(clipped, junctions->polylines(edgeSize), oracle, *junctions);
+    clipped = joinJunctions(clipped, junctions->polylines(edgeSize, sagitta), oracle, *junctions);
   }
   preparation.junctions = junctions;
   clipped = removeCoincidentFeatures(clipped, oracle);
@@ -234,13 +244,15 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // the sampling sagitta, but not within an edge size of an end they share (part.step has
   // curves leaving a vertex at under a degree).
   const size_t unsplit = clipped.polylines.size();
-  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()),
-                             edgeSize);
+  const double crossingSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
+  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize);
   preparation.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
   // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
   const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());
   preparation.star_vertices = static_cast<int64_t>(stars.size());
-  clipped = equalizeStarSegments(clipped, stars);
+  // The thesis engine applies Q1 itself (T1.1, with l_min,i of these polylines); equalising
+  // here as well would make it split the already equalised segments again, at l_min,i / 9.
+  if (job.engine != "thesis") clipped = equalizeStarSegments(clipped, stars);
   for (const FeaturePolyline& pl : clipped.polylines)
     origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
                          pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr,
