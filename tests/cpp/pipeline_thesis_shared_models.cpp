@@ -29,8 +29,8 @@ double flatness(const TetMesh& m, size_t t) {
   return 6 * std::abs(test::tetVolume(m, t)) / (shortest * shortest * shortest);
 }
 
-// U_Joint_2.stp has straight parallel feature edges 25.4 mm apart (y = +-12.7) whose samples
-// pair up into four (nearly) coplanar, cocircular points. Their flat cell's circumcentre is
+// U_Joint_2.stp has two parallel feature circles 25.4 mm apart (y = +-12.7, the ends of a
+// cylindrical face) whose samples pair up into four (nearly) coplanar, cocircular points. Their flat cell's circumcentre is
 // anywhere on the circle's axis: rounding put it 20 mm away, where T3.4 inserted a stray vertex
 // next to a face (its facets then read 22x over facet_distance, left), and the flat cell
 // itself stayed in the mesh (0.000000000000004 degrees after the snap). The engine now refines
