@@ -440,6 +440,14 @@ class RuleSetTRefiner {
     return worst > 1 ? worst : 0;
   }
 
+  // 6 V / l_min^3 (0.71 for a regular tetrahedron, 0 for four coplanar corners).
+  double flatness(CH c) const {
+    const double shortest = shortestEdge(c);
+    return 6 * std::abs(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(), c->vertex(2)->point(),
+                                     c->vertex(3)->point())) /
+           (shortest * shortest * shortest);
+  }
+
   double shortestEdge(CH c) const {
     double shortest = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 4; ++a)
@@ -463,12 +471,9 @@ class RuleSetTRefiner {
     const double shortest = shortestEdge(c);
     // Beyond the thesis: a cell whose four corners are (all but) coplanar, as boundary points
     // placed symmetrically on two faces of a concave edge make them, has a fine radius-edge
-    // ratio but no volume, and no vertex move after refinement can open it. Its circumcentre
-    // goes in like any bad cell's (with the same redirections).
-    const double flatness = 6 * std::abs(CGAL::volume(c->vertex(0)->point(), c->vertex(1)->point(),
-                                                      c->vertex(2)->point(), c->vertex(3)->point())) /
-                            (shortest * shortest * shortest);
-    if (flatness < kFlatCell) {
+    // ratio but no volume, and no vertex move after refinement can open it. A point goes in
+    // like for any bad cell (with the same redirections), see refinementPoint.
+    if (flatness(c) < kFlatCell) {
       worst = std::max(worst, 1e3);
       if (sizeFails) *sizeFails = true;
       if (reason) *reason = "flat cell (four nearly coplanar corners)";
@@ -789,6 +794,19 @@ class RuleSetTRefiner {
     return false;
   }
 
+  // Where a bad cell is refined: its circumcentre, except for a flat cell. Four (nearly)
+  // coplanar corners, e.g. two samples each of two parallel feature circles on a cylinder,
+  // are (nearly) cocircular, and their circumcentre is then anywhere on the circle's axis:
+  // rounding put U_Joint_2.stp's 20 mm from the cell, where T3.4 inserted a stray vertex next
+  // to a face and the flat cell stayed. The centroid of such a cell lies inside the circle,
+  // so inside every sphere through its corners: its insertion always removes the cell.
+  Point3 refinementPoint(CH c) const {
+    if (flatness(c) >= kFlatCell) return c->info().circumcentre;
+    Point3 centroid{0, 0, 0};
+    for (int k = 0; k < 4; ++k) centroid = centroid + 0.25 * toPoint3(c->vertex(k)->point());
+    return centroid;
+  }
+
   bool refineOneCell() {
     while (!cellQueue_.empty()) {
       const QueueEntry e = cellQueue_.top();
@@ -796,7 +814,7 @@ class RuleSetTRefiner {
       if (e.cell->info().stamp != e.stamp) continue;
       bool sizeFails = false;
       if (cellBadness(e.cell, &sizeFails) <= 0) continue;
-      const Zone zone = examine(e.cell->info().circumcentre, e.cell);
+      const Zone zone = examine(refinementPoint(e.cell), e.cell);
       // Terminator: a cell that meets its size but not the radius-edge bound next to a small
       // input angle cannot be fixed by splitting the subsegments there (each split makes a
       // new bad cell); and no subsegment is split below the terminator length.
@@ -823,7 +841,9 @@ class RuleSetTRefiner {
         continue;
       }
       Point3 ballCentre;
-      if (surfaceBallContaining(zone, ballCentre)) {
+      // A flat cell's facets have dual edges from its ill-defined circumcentre, so their
+      // surface balls say nothing about the boundary: its centroid goes in directly.
+      if (flatness(e.cell) >= kFlatCell && surfaceBallContaining(zone, ballCentre)) {
         const Zone surface = examine(ballCentre, e.cell);
         if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
           if (refuseSplit(surface.encroached, "T3.2")) continue;
@@ -846,7 +866,9 @@ class RuleSetTRefiner {
       }
       commit(zone, 3, -1);  // T3.4
       ++stats_.insertions["T3.4"];
-      return true;
+      // A cell outside its point's conflict zone (rounding, near-flat cells) is still there:
+      // back into the queue, so it is refined again or listed with a reason, never dropped.
+      return requeue(cellQueue_, e);
     }
     return false;
   }
