@@ -3,6 +3,7 @@
 // interface: no CGAL type crosses this header, so only ThesisEngine.cpp pays for the
 // Delaunay triangulation templates.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -28,6 +29,14 @@ struct RuleSetTOptions {
   // radius-edge bound are left (terminator rule) instead of splitting segments without end.
   std::vector<int> small_angle_curves;
   std::vector<Point3> small_angle_points;
+  // Beyond the thesis: once T1-T3 have converged, rule S inserts points near cells with a
+  // dihedral angle below this bound in degrees (slivers, which the radius-edge bound lets
+  // through); 0 = off.
+  double sliver_dihedral_deg = 0;
+  // The point of feature curve `curve` nearest to p (empty = subsegments are split on their
+  // chords). Midpoint splits go there, so their vertices need no move after refinement: the
+  // boundary snap would otherwise move them by the chord's sagitta and flatten cells.
+  std::function<Point3(int curve, const Point3& p)> onto_curve;
 };
 
 // An element the refiner left although it violates its criteria, and why.
@@ -46,6 +55,8 @@ struct RuleSetTStatistics {
   int64_t star_vertices = 0;
   int64_t constrained_subsegments = 0;        // at the end
   std::vector<LeftElement> left;
+  // Cells rule S left under options.sliver_dihedral_deg (value: the smallest dihedral angle).
+  std::vector<LeftElement> slivers_left;
   // Checked once at the end, by other means than the refinement uses (nearest-vertex
   // queries): subsegments that are not Delaunay edges or have a vertex in their diametral
   // ball, restricted facets with a vertex off the boundary. All zero unless elements are left.
