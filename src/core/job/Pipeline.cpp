@@ -530,9 +530,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     // slivers perturbation cannot (next to segment vertices, which it keeps fixed: on the demo
     // assembly perturbation alone stops at 3.6 degrees).
     options.sliver_dihedral_deg = job.perturb ? thesisSliverBound(job) : 0;
-    // Midpoint splits of curved segments go onto the curves, so the snap leaves those vertices
-    // where they are (moving them by the chord's sagitta took implant_in_bone (a) from 13.7
-    // degrees before the snap to 7.9 after it).
+    // Segment vertices go onto the curves, so the snap leaves them where they are (moving them
+    // by the chord's sagitta took implant_in_bone (a) from 13.7 degrees before the snap to 7.9
+    // after it).
     options.onto_curve = [&](int curve, const Point3& p) {
       auto origin = origins.find(curve);
       const BoundaryProjection q =

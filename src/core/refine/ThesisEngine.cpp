@@ -259,25 +259,41 @@ class RuleSetTRefiner {
       if (star < 0) continue;
       const Point3 from = end == 0 ? a : b, to = end == 0 ? b : a;
       const double third = stars_[star].lmin / 3;
-      if (len > third * (1 + 1e-9)) return {"T1.1", from + (third / len) * (to - from)};
+      if (len > third * (1 + 1e-9)) return {"T1.1", splitPointOnCurve(s, from + (third / len) * (to - from), &from, third)};
       const double shortest = shortestAtStar(star);
-      if (len > shortest * (1 + 1e-9)) return {"T1.2 shell", from + (shortest / len) * (to - from)};
+      if (len > shortest * (1 + 1e-9))
+        return {"T1.2 shell", splitPointOnCurve(s, from + (shortest / len) * (to - from), &from, shortest)};
     }
-    if (assumeEncroached || encroached(s)) return {"T1.2", midpointOnCurve(s)};
+    if (assumeEncroached || encroached(s)) return {"T1.2", splitPointOnCurve(s, 0.5 * (a + b))};
     return {};
   }
 
-  // Where a midpoint split of s goes: the point of its curve nearest to the chord's midpoint
-  // when options_.onto_curve knows the curve and that point lies strictly inside the
-  // diametral ball (between the ends), else the chord's midpoint. Splits at star vertices
-  // stay on the chord: their distance from the star vertex is what the shells rely on.
-  Point3 midpointOnCurve(const Subsegment& s) const {
+  // The point of curve `curve` for a vertex meant at p, when options_.onto_curve knows the
+  // curve: with `from`, the curve point at distance `radius` from it, found by projecting
+  // alternately onto the curve and the sphere (the star-vertex rules compare chord lengths,
+  // so it must be exact); else the curve point nearest to p. p itself when the curve is
+  // unknown or the iteration does not settle.
+  Point3 pointOnCurve(int curve, const Point3& p, const Point3* from = nullptr, double radius = 0) const {
+    if (!options_.onto_curve || curve < 0) return p;
+    Point3 q = options_.onto_curve(curve, p);
+    if (from) {
+      for (int k = 0; k < 20 && std::abs(distance(q, *from) - radius) > 1e-12 * radius; ++k) {
+        const double d = distance(q, *from);
+        if (!(d > 0)) return p;
+        q = options_.onto_curve(curve, *from + (radius / d) * (q - *from));
+      }
+      if (!(std::abs(distance(q, *from) - radius) <= 1e-10 * radius)) return p;
+    }
+    return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) ? q : p;
+  }
+
+  // Where a split of s at chord point p goes (T1.1 and shells: at chord distance `radius`
+  // from star vertex `from`): on s's curve (pointOnCurve) if that point is strictly inside
+  // s's diametral ball (between the ends), else p.
+  Point3 splitPointOnCurve(const Subsegment& s, const Point3& p, const Point3* from = nullptr, double radius = 0) const {
     const Point3 a = toPoint3(s.a->point()), b = toPoint3(s.b->point());
-    const Point3 middle = 0.5 * (a + b);
-    if (!options_.onto_curve || s.curve < 0) return middle;
-    const Point3 onCurve = options_.onto_curve(s.curve, middle);
-    const bool finite = std::isfinite(onCurve[0]) && std::isfinite(onCurve[1]) && std::isfinite(onCurve[2]);
-    return finite && distance(onCurve, middle) < 0.5 * distance(a, b) * (1 - 1e-3) ? onCurve : middle;
+    const Point3 q = pointOnCurve(s.curve, p, from, radius);
+    return distance(q, 0.5 * (a + b)) < 0.5 * distance(a, b) * (1 - 1e-3) ? q : p;
   }
 
   void pushSegment(int index) {
@@ -575,6 +591,20 @@ class RuleSetTRefiner {
   }
 
   // -------------------------------------------------------------------- initial points
+  // Inner point k of a polyline, put on its curve (Rule Set Q's l_min / 3 points lie on the
+  // chords, and the snap moving them flattens cells): next to an end, at the same chord
+  // distance from it, which the star-vertex rules measure; on a polyline of three points,
+  // where both sides count, it stays where it is.
+  Point3 polylinePointOnCurve(const FeaturePolyline& pl, size_t k) const {
+    const size_t n = pl.points.size();
+    if (n <= 3) return pl.points[k];
+    if (k == 1 || k + 2 == n) {
+      const Point3& end = k == 1 ? pl.points[0] : pl.points[n - 1];
+      return pointOnCurve(pl.curve, pl.points[k], &end, distance(pl.points[k], end));
+    }
+    return pointOnCurve(pl.curve, pl.points[k]);
+  }
+
   VH insertOrFind(const Point3& p, int dimension, int curve, bool far = false) {
     const CgalPoint q = toCgal(p);
     if (dt_.dimension() == 3) {
@@ -605,7 +635,7 @@ class RuleSetTRefiner {
       std::vector<VH> chain;
       for (size_t k = 0; k < pl.points.size(); ++k) {
         const bool end = k == 0 || k + 1 == pl.points.size();
-        VH v = insertOrFind(pl.points[k], end ? 0 : 1, end ? -1 : pl.curve);
+        VH v = insertOrFind(end ? pl.points[k] : polylinePointOnCurve(pl, k), end ? 0 : 1, end ? -1 : pl.curve);
         if (end) v->info().dimension = 0, v->info().curve = -1;
         chain.push_back(v);
       }

@@ -33,9 +33,10 @@ struct RuleSetTOptions {
   // dihedral angle below this bound in degrees (slivers, which the radius-edge bound lets
   // through); 0 = off.
   double sliver_dihedral_deg = 0;
-  // The point of feature curve `curve` nearest to p (empty = subsegments are split on their
-  // chords). Midpoint splits go there, so their vertices need no move after refinement: the
-  // boundary snap would otherwise move them by the chord's sagitta and flatten cells.
+  // The point of feature curve `curve` nearest to p (empty = segment vertices lie on the
+  // polylines' chords). Inner polyline points and T1 splits go onto the curves with it, so
+  // they need no move after refinement: the boundary snap would otherwise move them by the
+  // chord's sagitta and flatten cells.
   std::function<Point3(int curve, const Point3& p)> onto_curve;
 };
 
@@ -70,9 +71,10 @@ struct RuleSetTStatistics {
 // Meshes the composite domain of `oracle` by Rule Set T with the polylines of `features` as
 // constrained segments (empty = the featureless approach). Every constrained subsegment is an
 // edge of the result (listed in feature_edges with its curve id). Vertices inserted on the
-// boundary are exact oracle crossings; vertices on segments lie on the segment chords (the
-// pipeline puts them on the curves). Throws LimitError (vertex or time limit; the mesh so far
-// is left in statistics->partial), Cancelled.
+// boundary are exact oracle crossings; vertices on segments lie on the curves when
+// options.onto_curve is set (else on the chords, and the pipeline puts them on the curves).
+// Throws LimitError (vertex or time limit; the mesh so far is left in statistics->partial),
+// Cancelled.
 TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& features,
                          const RuleSetTOptions& options, const RunControl& control,
                          RuleSetTStatistics* statistics = nullptr);
