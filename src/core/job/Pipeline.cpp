@@ -472,6 +472,17 @@ json criteriaJson(const MaterialCriteria& c) {
           {"facet_angle", c.facet_angle}, {"edge_size", c.edge_size}};
 }
 
+// The dihedral angle the thesis engine's sliver removal (rule S, then perturbation) aims for:
+// 5 degrees above optimize.sliver_bound. The perturber stops as soon as every tet clears its
+// bound, and slight moves after it (vertices it left off the faces going back in the snap)
+// may cost a little; with the margin the final mesh clears the job's bound (default 10: demo
+// assembly and implant_in_bone 15 degrees). Rule S aims as high as perturbation: below it,
+// the perturber spends seconds on lifting what rule S left (demo: 20 s instead of 0.3 s).
+double thesisSliverBound(const JobSpec& job) {
+  constexpr double kMarginDeg = 5, kMaxDeg = 69;  // below the regular tetrahedron's 70.5
+  return std::min(job.sliver_bound + kMarginDeg, kMaxDeg);
+}
+
 }  // namespace
 
 JobResult runJob(const JobSpec& job, const RunControl& control) {
@@ -548,6 +559,19 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
         if (pl.edge == a.edge && pl.source >= 0 && oracle.entries()[pl.source].source->name() == a.input)
           options.small_angle_curves.push_back(pl.curve);
     }
+    // Sliver removal (optimize.perturb) starts in the engine: rule S, after T1-T3, lifts the
+    // slivers perturbation cannot (next to segment vertices, which it keeps fixed: on the demo
+    // assembly perturbation alone stops at 3.6 degrees).
+    options.sliver_dihedral_deg = job.perturb ? thesisSliverBound(job) : 0;
+    // Segment vertices go onto the curves, so the snap leaves them where they are (moving them
+    // by the chord's sagitta took implant_in_bone (a) from 13.7 degrees before the snap to 7.9
+    // after it).
+    options.onto_curve = [&](int curve, const Point3& p) {
+      auto origin = origins.find(curve);
+      const BoundaryProjection q =
+          origin == origins.end() ? BoundaryProjection{} : projectOnCurve(oracle, origin->second, p);
+      return std::isfinite(q.distance) ? q.point : p;
+    };
     RuleSetTStatistics stats;
     try {
       result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
@@ -567,6 +591,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
       control.report("sliver removal", 0);
       Mesh3Options sliverRemoval = mesh3Options(job, criteria);
       sliverRemoval.exude = false;
+      sliverRemoval.sliver_bound = thesisSliverBound(job);
       Mesh3Statistics optimizeStats;
       optimizeTetMeshWithCgal(result.mesh, oracle, sliverRemoval, control, &optimizeStats);
       for (const auto& [phase, sec] : optimizeStats.seconds) clock.seconds["thesis_" + phase] = sec;
@@ -577,6 +602,10 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     for (const LeftElement& e : stats.left)
       left.push_back({{"kind", e.kind}, {"reason", e.reason}, {"location", e.location}, {"material", e.material},
                       {"value", e.value}});
+    json slivers = json::array();
+    for (const LeftElement& e : stats.slivers_left)
+      slivers.push_back({{"reason", e.reason}, {"location", e.location}, {"material", e.material},
+                         {"min_dihedral_deg", e.value}});
     engineReport = {{"rule_insertions", stats.insertions},
                     {"star_vertices", stats.star_vertices},
                     {"constrained_subsegments", stats.constrained_subsegments},
@@ -584,7 +613,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                      {{"subsegments_not_edges", stats.subsegments_not_edges},
                       {"encroached_subsegments", stats.encroached_subsegments},
                       {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
-                    {"elements_left", left}};
+                    {"elements_left", left},
+                    {"slivers_left", slivers}};
     if (job.planar_faces) {
       engineReport["planar_faces"] = planarFacesJson(stats.planar, skippedPlanarFaces, oracle);
       if (stats.planar.missing > 0)
@@ -610,6 +640,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("snap", 0);
   mesh.boundary = extractBoundary(mesh);
+  // What the snap costs in quality (each engine leaves some boundary vertices off the faces).
+  const double minDihedralBeforeSnap = measureQuality(mesh).min_dihedral;
   const SnapResult snap = snapBoundaryVertices(mesh, oracle, origins, control);
   clock.finish("snap");
   if (snap.kept_off_surface > 0) {
@@ -712,7 +744,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                              {"vertices_moved", snap.moved},
                              {"vertices_kept_off_surface", snap.kept_off_surface},
                              {"flat_surface_slivers_removed", snap.slivers_removed},
-                             {"max_distance_kept_off_surface", snap.max_distance_kept}};
+                             {"max_distance_kept_off_surface", snap.max_distance_kept},
+                             {"min_dihedral_before_deg", minDihedralBeforeSnap}};
   report["element_order"] = job.element_order;
   if (job.element_order == 2) report["second_order_straight_fallbacks"] = straightMidNodes;
   report["bbox_diagonal"] = diagonal;

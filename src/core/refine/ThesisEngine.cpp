@@ -30,6 +30,8 @@
 //   every insertion would cost more than the refinement); the triangles found missing then
 //   go before T2 and T3. Cells with an edge on a planar face take their material from the
 //   barycentre: a flat cell on the face may have its circumcentre across the plane.
+//   - rule S (see refineSlivers), once T1-T3 have converged: S.4 a point near a sliver's
+//     circumcentre, S.1-S.3 its redirections as in T3.1-T3.3.
 #include "refine/ThesisEngine.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -49,6 +51,7 @@
 #include "Error.h"
 #include "features/RuleSetQ.h"
 #include "refine/PlanarFacets.h"
+#include "mesh/Quality.h"
 
 namespace oraclemesh {
 namespace {
@@ -169,6 +172,7 @@ class RuleSetTRefiner {
       phase("initial_points");
       control_.report("refine", 0);
       refine();
+      refineSlivers();
     } catch (const LimitError&) {
       stats_.partial = extract();
       throw;
@@ -180,6 +184,7 @@ class RuleSetTRefiner {
     }
     TetMesh mesh = extract();
     listLeftElements();
+    listLeftSlivers();
     phase("extract");
     finalCheck();
     return mesh;
@@ -271,12 +276,41 @@ class RuleSetTRefiner {
       if (star < 0) continue;
       const Point3 from = end == 0 ? a : b, to = end == 0 ? b : a;
       const double third = stars_[star].lmin / 3;
-      if (len > third * (1 + 1e-9)) return {"T1.1", from + (third / len) * (to - from)};
+      if (len > third * (1 + 1e-9)) return {"T1.1", splitPointOnCurve(s, from + (third / len) * (to - from), &from, third)};
       const double shortest = shortestAtStar(star);
-      if (len > shortest * (1 + 1e-9)) return {"T1.2 shell", from + (shortest / len) * (to - from)};
+      if (len > shortest * (1 + 1e-9))
+        return {"T1.2 shell", splitPointOnCurve(s, from + (shortest / len) * (to - from), &from, shortest)};
     }
-    if (assumeEncroached || encroached(s)) return {"T1.2", 0.5 * (a + b)};
+    if (assumeEncroached || encroached(s)) return {"T1.2", splitPointOnCurve(s, 0.5 * (a + b))};
     return {};
+  }
+
+  // The point of curve `curve` for a vertex meant at p, when options_.onto_curve knows the
+  // curve: with `from`, the curve point at distance `radius` from it, found by projecting
+  // alternately onto the curve and the sphere (the star-vertex rules compare chord lengths,
+  // so it must be exact); else the curve point nearest to p. p itself when the curve is
+  // unknown or the iteration does not settle.
+  Point3 pointOnCurve(int curve, const Point3& p, const Point3* from = nullptr, double radius = 0) const {
+    if (!options_.onto_curve || curve < 0) return p;
+    Point3 q = options_.onto_curve(curve, p);
+    if (from) {
+      for (int k = 0; k < 20 && std::abs(distance(q, *from) - radius) > 1e-12 * radius; ++k) {
+        const double d = distance(q, *from);
+        if (!(d > 0)) return p;
+        q = options_.onto_curve(curve, *from + (radius / d) * (q - *from));
+      }
+      if (!(std::abs(distance(q, *from) - radius) <= 1e-10 * radius)) return p;
+    }
+    return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) ? q : p;
+  }
+
+  // Where a split of s at chord point p goes (T1.1 and shells: at chord distance `radius`
+  // from star vertex `from`): on s's curve (pointOnCurve) if that point is strictly inside
+  // s's diametral ball (between the ends), else p.
+  Point3 splitPointOnCurve(const Subsegment& s, const Point3& p, const Point3* from = nullptr, double radius = 0) const {
+    const Point3 a = toPoint3(s.a->point()), b = toPoint3(s.b->point());
+    const Point3 q = pointOnCurve(s.curve, p, from, radius);
+    return distance(q, 0.5 * (a + b)) < 0.5 * distance(a, b) * (1 - 1e-3) ? q : p;
   }
 
   void pushSegment(int index) {
@@ -587,6 +621,20 @@ class RuleSetTRefiner {
   }
 
   // -------------------------------------------------------------------- initial points
+  // Inner point k of a polyline, put on its curve (Rule Set Q's l_min / 3 points lie on the
+  // chords, and the snap moving them flattens cells): next to an end, at the same chord
+  // distance from it, which the star-vertex rules measure; on a polyline of three points,
+  // where both sides count, it stays where it is.
+  Point3 polylinePointOnCurve(const FeaturePolyline& pl, size_t k) const {
+    const size_t n = pl.points.size();
+    if (n <= 3) return pl.points[k];
+    if (k == 1 || k + 2 == n) {
+      const Point3& end = k == 1 ? pl.points[0] : pl.points[n - 1];
+      return pointOnCurve(pl.curve, pl.points[k], &end, distance(pl.points[k], end));
+    }
+    return pointOnCurve(pl.curve, pl.points[k]);
+  }
+
   VH insertOrFind(const Point3& p, int dimension, int curve, bool far = false) {
     const CgalPoint q = toCgal(p);
     if (dt_.dimension() == 3) {
@@ -639,7 +687,7 @@ class RuleSetTRefiner {
       std::vector<VH> chain;
       for (size_t k = 0; k < pl.points.size(); ++k) {
         const bool end = k == 0 || k + 1 == pl.points.size();
-        VH v = insertOrFind(pl.points[k], end ? 0 : 1, end ? -1 : pl.curve);
+        VH v = insertOrFind(end ? pl.points[k] : polylinePointOnCurve(pl, k), end ? 0 : 1, end ? -1 : pl.curve);
         if (end) v->info().dimension = 0, v->info().curve = -1;
         chain.push_back(v);
       }
@@ -1116,6 +1164,193 @@ class RuleSetTRefiner {
                                        why != planarLeft_.end() ? why->second : "not refined"});
       }
     }
+  }
+
+  // ------------------------------------------------------- S: slivers (beyond the thesis)
+  // Rule Set T bounds radius-edge ratios, which slivers meet. Rule S gives each cell inside
+  // the materials whose smallest dihedral angle is under options_.sliver_dihedral_deg a point
+  // near its circumcentre: the best of a few seeded points in the ball of radius
+  // kSliverPickRadius x circumradius around it, judged by the smallest dihedral angle of the
+  // cells the point would make (random point placement, Chew 1997, Li & Teng 2001). Points in
+  // that ball lie inside the sliver's circumsphere, so any of them destroys the sliver. A
+  // candidate that encroaches a subsegment or lies in a surface Delaunay ball is not inserted;
+  // when no candidate qualifies, the circumcentre is redirected as in T3 (S.1 splits the
+  // subsegment it encroaches, S.2 the one its surface ball centre encroaches, S.3 inserts that
+  // ball centre) so segments and restricted facets keep their guarantees. Each round gives
+  // every sliver one try and T1-T3 then repair what the insertions broke; after kSliverRounds
+  // the slivers left are listed.
+  static constexpr int kSliverRounds = 4;
+  static constexpr int kSliverCandidates = 12;
+  static constexpr double kSliverPickRadius = 0.4;
+
+  static double minDihedralDeg(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+    const std::array<double, 6> angles = dihedralAngles(a, b, c, d);
+    return *std::min_element(angles.begin(), angles.end());
+  }
+
+  double minDihedralDeg(CH c) const {
+    return minDihedralDeg(toPoint3(c->vertex(0)->point()), toPoint3(c->vertex(1)->point()),
+                          toPoint3(c->vertex(2)->point()), toPoint3(c->vertex(3)->point()));
+  }
+
+  bool isSliver(CH c) const {
+    return !dt_.is_infinite(c) && c->info().label > 0 && minDihedralDeg(c) < options_.sliver_dihedral_deg;
+  }
+
+  // Smallest dihedral angle of the cells that inserting zone.point would make in place of
+  // conflict cells inside the materials (a new cell's label is not known before insertion;
+  // the cell it replaces stands in for it); -1 when one of them would fail T3's criteria
+  // (the repair by T3 would start a cascade of insertions, each with new slivers).
+  double newStarMinDihedral(const Zone& zone) const {
+    const Point3 apex = toPoint3(zone.point);
+    double worst = 180;
+    for (CH c : zone.cells) {
+      if (c->info().label <= 0) continue;
+      const MaterialCriteria& crit = options_.criteria.of(c->info().label);
+      for (int i = 0; i < 4; ++i) {
+        if (std::find(zone.cells.begin(), zone.cells.end(), c->neighbor(i)) != zone.cells.end()) continue;
+        const VH a = c->vertex((i + 1) & 3), b = c->vertex((i + 2) & 3), d = c->vertex((i + 3) & 3);
+        if (dt_.is_infinite(a) || dt_.is_infinite(b) || dt_.is_infinite(d)) continue;
+        const double r = std::sqrt(CGAL::squared_distance(CGAL::circumcenter(a->point(), b->point(), d->point(), zone.point),
+                                                          zone.point));
+        double shortest = std::min({CGAL::squared_distance(a->point(), b->point()),
+                                    CGAL::squared_distance(b->point(), d->point()),
+                                    CGAL::squared_distance(d->point(), a->point())});
+        for (VH w : {a, b, d}) shortest = std::min(shortest, CGAL::squared_distance(w->point(), zone.point));
+        shortest = std::sqrt(shortest);
+        if ((crit.cell_size > 0 && r > crit.cell_size) ||
+            (crit.cell_radius_edge_ratio > 0 && r > crit.cell_radius_edge_ratio * shortest))
+          return -1;
+        worst = std::min(worst, minDihedralDeg(toPoint3(a->point()), toPoint3(b->point()), toPoint3(d->point()), apex));
+      }
+    }
+    return worst;
+  }
+
+  // Whether rule S leaves subsegment s unsplit (the terminator's conditions of T3).
+  bool sliverRefusesSplit(int s, uint64_t stamp, const char* rule) {
+    if (nearSmallAngle(segments_[s])) {
+      leave("cell", std::string(rule) + " would split a subsegment next to an input angle under 60 degrees", stamp, -1);
+      return true;
+    }
+    if (length(segments_[s]) / 2 < terminatorLength_) {
+      leave("cell", std::string(rule) + " would split a subsegment below the terminator length", stamp, -1);
+      return true;
+    }
+    return false;
+  }
+
+  // One try of rule S on sliver c; true when a point went in.
+  bool refineSliver(CH c, std::mt19937& random) {
+    const uint64_t stamp = c->info().stamp;
+    const Point3 centre = c->info().circumcentre;
+    const double pick = kSliverPickRadius * c->info().radius;
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    double bestScore = minDihedralDeg(c);
+    Zone best;
+    bool found = false;
+    for (int k = 0; k <= kSliverCandidates; ++k) {
+      Point3 offset{0, 0, 0};
+      if (k > 0) do offset = {unit(random), unit(random), unit(random)};
+        while (dot(offset, offset) > 1);
+      Zone zone = examine(centre + pick * offset, c);
+      if (zone.duplicate || zone.encroached >= 0 || zone.insertionRadius < terminatorLength_) continue;
+      Point3 ballCentre;
+      if (surfaceBallContaining(zone, ballCentre)) continue;
+      const double score = newStarMinDihedral(zone);
+      if (score > bestScore) {
+        bestScore = score;
+        best = std::move(zone);
+        found = true;
+      }
+    }
+    if (found) {
+      commit(best, 3, -1);
+      ++stats_.insertions["S.4"];
+      return true;
+    }
+    // No free candidate: the circumcentre goes where T3 would send it.
+    const Zone zone = examine(centre, c);
+    if (zone.duplicate) {
+      leave("cell", "sliver: its circumcentre is a vertex already", stamp, -1);
+      return false;
+    }
+    if (zone.encroached >= 0) {
+      if (sliverRefusesSplit(zone.encroached, stamp, "S.1")) return false;
+      if (splitEncroached(zone.encroached, "S.1")) return true;
+      leave("cell", "sliver: the subsegment its circumcentre encroaches cannot be split", stamp, -1);
+      return false;
+    }
+    Point3 ballCentre;
+    if (surfaceBallContaining(zone, ballCentre)) {
+      const Zone surface = examine(ballCentre, c);
+      if (!surface.duplicate && surface.encroached >= 0) {
+        if (sliverRefusesSplit(surface.encroached, stamp, "S.2")) return false;
+        if (splitEncroached(surface.encroached, "S.2")) return true;
+      } else if (!surface.duplicate && surface.insertionRadius >= terminatorLength_ &&
+                 newStarMinDihedral(surface) > minDihedralDeg(c)) {
+        // Only a ball centre whose new cells are better and meet T3's criteria: unlike T3.3,
+        // S.3 is not needed for the guarantees, and under a strict radius-edge bound (1.1 on
+        // implant_in_bone) a surface point that T3 must repair starts a cascade (3x the tets).
+        commit(surface, 2, -1);
+        ++stats_.insertions["S.3"];
+        return true;
+      }
+      leave("cell", "sliver: the surface ball centre its circumcentre maps to makes no better cells", stamp, -1);
+      return false;
+    }
+    leave("cell", "sliver: no point near its circumcentre makes better cells", stamp, -1);
+    return false;
+  }
+
+  void refineSlivers() {
+    if (options_.sliver_dihedral_deg <= 0) return;
+    control_.report("slivers", 0);
+    std::mt19937 random(options_.seed);
+    for (int round = 0; round < kSliverRounds; ++round) {
+      struct Sliver {
+        double angle;
+        uint64_t stamp;
+        CH cell;
+      };
+      std::vector<Sliver> slivers;
+      for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c)
+        if (isSliver(c)) slivers.push_back({minDihedralDeg(c), c->info().stamp, c});
+      if (slivers.empty()) return;
+      // Worst first; stamps break ties so the order does not depend on memory layout.
+      std::sort(slivers.begin(), slivers.end(), [](const Sliver& a, const Sliver& b) {
+        return a.angle != b.angle ? a.angle < b.angle : a.stamp < b.stamp;
+      });
+      int64_t inserted = 0, tried = 0;
+      for (const Sliver& s : slivers) {
+        if ((++tried & 63) == 0) control_.checkpoint();
+        if (s.cell->info().stamp != s.stamp) continue;  // gone with an earlier insertion
+        inserted += refineSliver(s.cell, random);
+      }
+      refine();  // T1-T3 repair what the insertions broke
+      if (inserted == 0) return;
+    }
+  }
+
+  // Cells inside the materials still under the sliver bound, with the reason rule S left
+  // them (perturbation, which runs next, works on them).
+  void listLeftSlivers() {
+    if (options_.sliver_dihedral_deg <= 0) return;
+    constexpr size_t kListed = 200;  // the worst ones; the count is complete
+    std::vector<std::pair<double, LeftElement>> left;
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
+      if (!isSliver(c)) continue;
+      const double angle = minDihedralDeg(c);
+      auto it = leftReasons_.find({c->info().stamp, -1});
+      const std::string why = it != leftReasons_.end() ? it->second : "made by the last round's T1-T3 repairs";
+      std::ostringstream reason;
+      reason << "smallest dihedral angle under " << options_.sliver_dihedral_deg << " degrees (" << why << ")";
+      left.push_back({angle, {"cell", reason.str(), c->info().circumcentre, c->info().label, angle}});
+    }
+    std::stable_sort(left.begin(), left.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    stats_.insertions["left_slivers"] = static_cast<int64_t>(left.size());
+    stats_.slivers_left.clear();
+    for (size_t k = 0; k < left.size() && k < kListed; ++k) stats_.slivers_left.push_back(std::move(left[k].second));
   }
 
   // ---------------------------------------------------------------------------- output

@@ -3,6 +3,7 @@
 // interface: no CGAL type crosses this header, so only ThesisEngine.cpp pays for the
 // Delaunay triangulation templates.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -32,6 +33,15 @@ struct RuleSetTOptions {
   // Planar faces whose triangles are recovered as 3D facets (features.planar_faces; empty =
   // off). Their borders must be constrained segments of `features` (findPlanarFaces).
   std::vector<PlanarFace> planar_faces;
+  // Beyond the thesis: once T1-T3 have converged, rule S inserts points near cells with a
+  // dihedral angle below this bound in degrees (slivers, which the radius-edge bound lets
+  // through); 0 = off.
+  double sliver_dihedral_deg = 0;
+  // The point of feature curve `curve` nearest to p (empty = segment vertices lie on the
+  // polylines' chords). Inner polyline points and T1 splits go onto the curves with it, so
+  // they need no move after refinement: the boundary snap would otherwise move them by the
+  // chord's sagitta and flatten cells.
+  std::function<Point3(int curve, const Point3& p)> onto_curve;
 };
 
 // A triangle of a planar face's 2D Delaunay triangulation that is no 3D facet at the end.
@@ -68,6 +78,8 @@ struct RuleSetTStatistics {
   int64_t star_vertices = 0;
   int64_t constrained_subsegments = 0;        // at the end
   std::vector<LeftElement> left;
+  // Cells rule S left under options.sliver_dihedral_deg (value: the smallest dihedral angle).
+  std::vector<LeftElement> slivers_left;
   // Checked once at the end, by other means than the refinement uses (nearest-vertex
   // queries): subsegments that are not Delaunay edges or have a vertex in their diametral
   // ball, restricted facets with a vertex off the boundary. All zero unless elements are left.
@@ -82,9 +94,10 @@ struct RuleSetTStatistics {
 // Meshes the composite domain of `oracle` by Rule Set T with the polylines of `features` as
 // constrained segments (empty = the featureless approach). Every constrained subsegment is an
 // edge of the result (listed in feature_edges with its curve id). Vertices inserted on the
-// boundary are exact oracle crossings; vertices on segments lie on the segment chords (the
-// pipeline puts them on the curves). Throws LimitError (vertex or time limit; the mesh so far
-// is left in statistics->partial), Cancelled.
+// boundary are exact oracle crossings; vertices on segments lie on the curves when
+// options.onto_curve is set (else on the chords, and the pipeline puts them on the curves).
+// Throws LimitError (vertex or time limit; the mesh so far is left in statistics->partial),
+// Cancelled.
 TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& features,
                          const RuleSetTOptions& options, const RunControl& control,
                          RuleSetTStatistics* statistics = nullptr);
