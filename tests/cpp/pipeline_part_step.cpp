@@ -1,7 +1,11 @@
 // part.step through the whole pipeline (issue: features): every sharp B-rep edge comes out as
 // a chain of mesh feature edges from one of its vertices to the other, every mesh feature edge
-// lies on a sharp B-rep edge (none on a seam), the Hausdorff distance between the two both ways
-// is within what the edge size allows, and the volume with features matches the B-rep's.
+// lies on a sharp B-rep edge (none on a seam), every node of a feature edge (tet10 mid nodes
+// included) lies on its B-rep edge within 1e-6 of the diagonal, also at the corners where
+// curves leave a vertex tangentially, and the volume with features matches the B-rep's.
+// The Hausdorff distance between the straight (or quadratic) mesh edges and a curved B-rep
+// edge is the chord sagitta, which the edge size sets, not 1e-6 of the diagonal: it is
+// printed and bounded by the sagitta of the edge size over the tightest bend.
 // The B-rep side is measured by OpenCASCADE alone (Extrema_ExtPC projections, curvature
 // from BRepLProp_CLProps), not through the oracle.
 #include <BRepAdaptor_Curve.hxx>
@@ -149,9 +153,7 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
   const auto mids = test::midNodeOfEdge(mesh);
   std::map<int, std::vector<size_t>> chains;  // B-rep edge -> mesh feature edges on it
   double nodeDistance = 0, midNodeDistance = 0, chordToCurve = 0, quadraticToCurve = 0, longestChord = 0;
-  double straightMidNodeDistance = 0;
-  int64_t straightMidNodes = 0;
-  std::map<int64_t, double> nodesKeptOff;  // feature node -> distance to its B-rep edge
+  std::map<int64_t, double> nodesOff;  // feature node -> distance to its B-rep edge, where > nodeBound
   for (size_t i = 0; i < mesh.feature_edges.size(); ++i) {
     const Point3& a = mesh.points[mesh.feature_edges[i][0]];
     const Point3& b = mesh.points[mesh.feature_edges[i][1]];
@@ -171,26 +173,13 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
     }
     ASSERT_GE(best, 0);
     const ReferenceEdge& on = edges[best];
-    const double nodesOff = std::max(on.distanceTo(a), on.distanceTo(b)), midOff = on.distanceTo(m);
-    // A node is left off its curve only where the snap would fold a tet (part.step's curves
-    // meeting at under 3 degrees); the report counts those, checked after the loop.
-    for (int64_t v : {mesh.feature_edges[i][0], mesh.feature_edges[i][1]})
-      if (on.distanceTo(mesh.points[v]) > nodeBound) nodesKeptOff[v] = on.distanceTo(mesh.points[v]);
+    for (int64_t v : {mesh.feature_edges[i][0], mesh.feature_edges[i][1], mid->second})
+      if (on.distanceTo(mesh.points[v]) > nodeBound) nodesOff[v] = on.distanceTo(mesh.points[v]);
     EXPECT_FALSE(isSeam(best)) << "feature edge " << i << " lies on seam edge " << best;
     EXPECT_TRUE(sharp.count(best)) << "feature edge " << i << " lies on edge " << best << ", which is not sharp";
     chains[best].push_back(i);
-    if (nodesOff > nodeBound) continue;  // its chord is off the curve by the node's offset
-    if (midOff <= nodeBound) {
-      midNodeDistance = std::max(midNodeDistance, midOff);
-    } else {
-      // The pipeline leaves a mid node straight where the curved one would fold a tet (it
-      // counts them in the report): then it is the chord's midpoint, within the chord bound.
-      ++straightMidNodes;
-      straightMidNodeDistance = std::max(straightMidNodeDistance, midOff);
-      EXPECT_LE(distance(m, 0.5 * (a + b)), 1e-9 * diagonal) << "feature edge " << i << ": mid node off the curve";
-      EXPECT_LE(midOff, sagitta(edgeSize, on.maxCurvature) + nodeBound);
-    }
-    nodeDistance = std::max(nodeDistance, nodesOff);
+    nodeDistance = std::max({nodeDistance, on.distanceTo(a), on.distanceTo(b)});
+    midNodeDistance = std::max(midNodeDistance, on.distanceTo(m));
     longestChord = std::max(longestChord, distance(a, b));
     // Chords may leave a curve by the sagitta of its tightest bend over an edge_size chord.
     const double bound = sagitta(edgeSize, on.maxCurvature) + nodeBound;
@@ -202,13 +191,14 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
       quadraticToCurve = std::max(quadraticToCurve, quadratic);
     }
   }
-
-  const nlohmann::json& snapReport = result.report.at("boundary_snap");
-  EXPECT_LE(static_cast<int64_t>(nodesKeptOff.size()), snapReport.at("vertices_kept_off_surface").get<int64_t>())
-      << "feature nodes off their B-rep edge that the report does not count";
-  for (const auto& [v, d] : nodesKeptOff)
-    EXPECT_LE(d, snapReport.at("max_distance_kept_off_surface").get<double>() + nodeBound) << "node " << v;
-  std::cout << "[figures] part.step feature nodes kept off their curve (reported): " << nodesKeptOff.size() << "\n";
+  // Narrow-corner sampling of the polylines and a snap that retries blocked moves leave no
+  // feature node off its curve (26 stayed up to 0.05 mm off next to the tangent corners before).
+  for (const auto& [v, d] : nodesOff)
+    ADD_FAILURE() << "feature node " << v << " at (" << mesh.points[v][0] << ", " << mesh.points[v][1] << ", "
+                  << mesh.points[v][2] << ") is " << d << " off its B-rep edge";
+  std::cout << "[ figures  ] part.step feature nodes off their curve: " << nodesOff.size() << "; nodes the snap kept off "
+            << "any face or curve (report): " << result.report.at("boundary_snap").at("vertices_kept_off_surface")
+            << "\n";
 
   // The other way: every sharp edge is one chain from vertex to vertex (a closed edge: one
   // cycle through its vertex), and every point of the curve is near the chain.
@@ -253,11 +243,6 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
 
     chordBound = std::max(chordBound, sagitta(edgeSize, ref.maxCurvature));
     const int samples = std::max(50, static_cast<int>(ref.length / (0.01 * edgeSize)));
-    // A chain through a node the snap had to leave off the curve is that much farther.
-    double keptOffAllowance = 0;
-    for (size_t i : chains[e])
-      for (int64_t v : {mesh.feature_edges[i][0], mesh.feature_edges[i][1]})
-        if (nodesKeptOff.count(v)) keptOffAllowance = std::max(keptOffAllowance, nodesKeptOff.at(v));
     for (int k = 0; k <= samples; ++k) {
       const Point3 p = ref.at(double(k) / samples);
       double toChord = std::numeric_limits<double>::infinity(), toQuadratic = toChord;
@@ -272,8 +257,8 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
           toQuadratic = std::min(toQuadratic, segmentDistance(p, quadraticAt(a, m, b, s / 16.0),
                                                                 quadraticAt(a, m, b, (s + 1) / 16.0)));
       }
-      EXPECT_LE(toChord, sagitta(edgeSize, ref.maxCurvature) + nodeBound + keptOffAllowance) << "edge " << e;
-      EXPECT_LE(toQuadratic, sagitta(edgeSize, ref.maxCurvature) + nodeBound + keptOffAllowance) << "edge " << e;
+      EXPECT_LE(toChord, sagitta(edgeSize, ref.maxCurvature) + nodeBound) << "edge " << e;
+      EXPECT_LE(toQuadratic, sagitta(edgeSize, ref.maxCurvature) + nodeBound) << "edge " << e;
       curveToChords = std::max(curveToChords, toChord);
       curveToQuadratics = std::max(curveToQuadratics, toQuadratic);
     }
@@ -281,16 +266,14 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
 
   std::cout << "[ figures  ] part.step: " << sharp.size() << " sharp edges, " << stars << " star vertices, " << mesh.feature_edges.size()
             << " mesh feature edges, longest " << longestChord << " (edge_size " << edgeSize << ")\n"
-            << "[ figures  ] nodes -> curve " << nodeDistance << ", mid nodes -> curve " << midNodeDistance
-            << " (bound " << nodeBound << "); " << straightMidNodes << " straight mid nodes up to "
-            << straightMidNodeDistance << " (report: " << result.report.at("second_order_straight_fallbacks")
-            << " straight fallbacks)\n"
+            << "[ figures  ] Hausdorff feature nodes -> curve " << nodeDistance << ", mid nodes -> curve "
+            << midNodeDistance << " (bound " << nodeBound << "; report: "
+            << result.report.at("second_order_straight_fallbacks") << " straight mid nodes in all)\n"
             << "[ figures  ] Hausdorff straight chords: chords -> curve " << chordToCurve << ", curve -> chords "
             << curveToChords << "; quadratic edges: " << quadraticToCurve << " / " << curveToQuadratics
             << " (largest chord bound, per edge: " << chordBound << ")\n";
   EXPECT_LE(nodeDistance, nodeBound);
   EXPECT_LE(midNodeDistance, nodeBound);
-  EXPECT_LE(straightMidNodes, result.report.at("second_order_straight_fallbacks").get<int64_t>());
   // Mesh_3 keeps protecting-ball centres at most edge_size apart; snapping moves them along the
   // curve by far less than that.
   EXPECT_LE(longestChord, edgeSize * (1 + 1e-3));

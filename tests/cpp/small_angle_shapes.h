@@ -1,10 +1,13 @@
 #pragma once
 // Solids with input angles under 60 degrees (thesis §3.3: where Rule Set T needs more than
 // the thesis gives), shared by the unit and pipeline tests of the small-angle report.
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <GC_MakeArcOfCircle.hxx>
 #include <gp_Ax2.hxx>
 
 #include <cmath>
@@ -26,6 +29,32 @@ inline TopoDS_Shape wedge(double angleDeg, double length, double height, const g
 // A cone standing on its base at `base`, apex up: opening angle 2 atan(radius / height).
 inline TopoDS_Shape coneWithTip(const gp_Pnt& base, double radius, double height) {
   return BRepPrimAPI_MakeCone(gp_Ax2(base, gp_Dir(0, 0, 1)), radius, 0, height).Shape();
+}
+
+// A prism of the given height over the circular segment between the chord (0,0)-(chord,0)
+// and the arc above it that leaves both chord ends at `angleDeg` to the chord: the corners of
+// its top and bottom faces are angles between a line and a curve, which the first chord of a
+// sampled arc makes smaller (by half the arc angle it spans). The vertical edges at the chord
+// ends have the same dihedral angle.
+inline TopoDS_Shape circularSegment(double angleDeg, double chord, double height) {
+  const gp_Pnt start(0, 0, 0), end(chord, 0, 0);
+  const gp_Vec tangent(std::cos(angleDeg * kDegree), std::sin(angleDeg * kDegree), 0);
+  const TopoDS_Edge arc = BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(start, tangent, end).Value()).Edge();
+  const TopoDS_Edge line = BRepBuilderAPI_MakeEdge(end, start).Edge();
+  const TopoDS_Face base = BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakeWire(arc, line).Wire()).Face();
+  return BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, height)).Shape();
+}
+
+// A prism of the given height over the region between the x axis (0..length), the line
+// x = length (0..rise) and the arc that leaves the origin along the x axis and ends at
+// (length, rise): a cusp (zero angle) at the origin, like the corners where part.step's
+// curves leave a vertex tangentially.
+inline TopoDS_Shape cusp(double length, double rise, double height) {
+  const gp_Pnt origin(0, 0, 0), foot(length, 0, 0), top(length, rise, 0);
+  const TopoDS_Edge arc = BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(origin, gp_Vec(1, 0, 0), top).Value()).Edge();
+  BRepBuilderAPI_MakeWire wire(BRepBuilderAPI_MakeEdge(origin, foot).Edge(), BRepBuilderAPI_MakeEdge(foot, top).Edge());
+  wire.Add(arc);
+  return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(wire.Wire()).Face(), gp_Vec(0, 0, height)).Shape();
 }
 
 }  // namespace oraclemesh::test

@@ -69,6 +69,35 @@ TEST(InputAngles, WedgeReportsItsDihedralAndCurveAngles) {
   EXPECT_EQ(curves, 2);    // bottom and top triangle corners
 }
 
+TEST(InputAngles, CurveAnglesComeFromTheExactTangents) {
+  // A 20-degree corner between a line and an arc (radius 14.6 over a 10 mm chord), sampled
+  // coarsely (edge size 1 gives 11 chords of 1.8 degrees each along the arc): the first chord
+  // alone would give 19.1 degrees; the exact tangents give 20.
+  const double angle = 20;
+  const Composition c = compose({{test::circularSegment(angle, 10, 5), "segment"}});
+  const auto angles = findSmallInputAngles(*c.oracle, c.features, 60);
+  int curves = 0, dihedral = 0;
+  for (const SmallInputAngle& a : angles) {
+    EXPECT_NEAR(a.angle_deg, angle, 1e-9) << a.kind;
+    // Both chord ends, bottom (z = 0) and top (z = 5): x is 0 or 10, y is 0.
+    EXPECT_NEAR(std::min(std::abs(a.location[0]), std::abs(a.location[0] - 10)), 0, 1e-9);
+    EXPECT_NEAR(a.location[1], 0, 1e-9);
+    curves += a.kind == "curves";
+    dihedral += a.kind == "dihedral";
+  }
+  EXPECT_EQ(curves, 4) << "two corners on each of the top and bottom faces";
+  EXPECT_EQ(dihedral, 2) << "the vertical edges at the chord ends";
+  // The bottom arc's first chord makes a clearly smaller angle with the line than its tangent.
+  int bottomArcs = 0;
+  for (const FeaturePolyline& pl : c.features.polylines) {
+    const Point3 first = pl.points[1] - pl.points[0];
+    if (std::abs(pl.points[0][2]) > 1e-9 || std::abs(first[2]) > 1e-9 || std::abs(first[1]) < 1e-9) continue;
+    ++bottomArcs;
+    EXPECT_LT(std::atan2(std::abs(first[1]), std::abs(first[0])) / test::kDegree, angle - 0.5);
+  }
+  EXPECT_EQ(bottomArcs, 1);
+}
+
 TEST(InputAngles, ConeTipReportedUnlessBuried) {
   const double radius = 2, height = 10;
   const double opening = 2 * std::atan(radius / height) / test::kDegree;

@@ -24,8 +24,10 @@
 #include "domain/BrepSolid.h"
 #include "domain/HierarchicalOracle.h"
 #include "features/BrepSharpEdges.h"
+#include "features/CurveSampling.h"
 
 #include "occt_checks.h"
+#include "small_angle_shapes.h"
 
 namespace oraclemesh {
 namespace {
@@ -134,6 +136,44 @@ TEST(SharpEdges, PartStep) {
             << graph.polylines.size() << " sharp at 30 degrees\n";
   EXPECT_EQ(static_cast<int>(graph.polylines.size()), kPartStepSharpEdges);
   EXPECT_LE(static_cast<int>(graph.polylines.size()), solid->edgeCount() - seams);
+}
+
+TEST(SharpEdges, NarrowCornersAreSampledCloseToTheCurves) {
+  // A line and an arc leaving a vertex tangentially (a cusp): each arc chord must stay within
+  // a quarter of the gap to the line (or 1e-4 of the diagonal), or moving mesh nodes from the
+  // chords onto the arc would fold elements between the two curves. Sampled only by length and
+  // sagitta, the chords next to the corner do not: there the gap shrinks with the square of
+  // the distance, like the sagitta.
+  const BrepSolid solid(test::cusp(10, 3, 2), "cusp");
+  const double diagonal = solid.bbox().diagonal(), segment = 2;
+  const FeatureGraph graph = extractSharpEdges(solid, 0, 30, segment);
+  expectWellFormed(solid, graph, 0, segment);
+  int arc = -1, line = -1;
+  for (const FeaturePolyline& pl : graph.polylines) {
+    const Point3 first = pl.points[1] - pl.points[0];
+    if (std::abs(pl.points[0][2]) > 1e-9 || std::abs(first[2]) > 1e-9) continue;  // bottom face only
+    (std::abs(first[1]) > 1e-9 ? arc : line) = pl.edge;
+  }
+  ASSERT_GE(arc, 0);
+  ASSERT_GE(line, 0);
+  // Worst chord sagitta relative to what the corner allows, over a polyline of the arc.
+  auto worstRatio = [&](const std::vector<Point3>& points) {
+    double worst = 0;
+    for (size_t i = 0; i + 1 < points.size(); ++i) {
+      const BoundaryProjection onArc = solid.projectOnEdge(0.5 * (points[i] + points[i + 1]), arc);
+      const double gap = solid.projectOnEdge(onArc.point, line).distance;
+      worst = std::max(worst, onArc.distance / std::max(0.25 * gap, 1e-4 * diagonal));
+    }
+    return worst;
+  };
+  for (const FeaturePolyline& pl : graph.polylines)
+    if (pl.edge == arc) EXPECT_LE(worstRatio(pl.points), 1.0 + 1e-6);
+  const BRepAdaptor_Curve curve(solid.edge(arc));
+  std::vector<Point3> uniform;
+  for (double u : polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(), segment,
+                                     featureSagittaTolerance(segment, diagonal), 1))
+    uniform.push_back({curve.Value(u).X(), curve.Value(u).Y(), curve.Value(u).Z()});
+  EXPECT_GT(worstRatio(uniform), 2.0) << "the length and sagitta bounds alone would do here";
 }
 
 // ---- clipping ------------------------------------------------------------------------------

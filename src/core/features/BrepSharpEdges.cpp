@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numeric>
 
 #include "Error.h"
@@ -44,6 +46,51 @@ bool facesMeetSharply(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoD
     if (na.Dot(nb) < cosThreshold) return true;
   }
   return false;
+}
+
+// Narrow corners: where two sharp edges leave a common vertex at less than this angle
+// (exact tangents), their polylines are refined near each other so that a chord strays from
+// its curve by at most this fraction of the gap to the other curve, but not below the floor
+// (relative to the diagonal). Curves leaving a vertex tangentially (part.step: 0 and 0.15
+// degrees) are refined to the floor next to it, and the polyline angle Mesh_3 sees there
+// shrinks with the floor: 1e-4 leaves no feature node of part.step off its curve at about the
+// same meshing time; 1e-5 (0.45-degree polyline corners) made Mesh_3's exudation stall there.
+constexpr double kNarrowCornerDeg = 15;
+constexpr double kNarrowCornerGapFraction = 0.25;
+constexpr double kNarrowCornerFloor = 1e-4;
+
+// For every sharp edge with an end at a narrow corner, the other sharp edges of that corner.
+// `corner` holds the point of each vertex of `vertexMap` (coincident vertices share one).
+std::map<int, std::vector<int>> narrowCornerNeighbours(const BrepSolid& solid, const std::vector<int>& sharpEdges,
+                                                       const TopTools_IndexedMapOfShape& vertexMap,
+                                                       const std::vector<Point3>& corner) {
+  struct End {
+    int edge;
+    gp_Vec leaving;  // unit tangent pointing away from the vertex along the edge
+  };
+  std::map<Point3, std::vector<End>> endsAt;
+  for (int e : sharpEdges) {
+    const TopoDS_Edge forward = TopoDS::Edge(solid.edge(e).Oriented(TopAbs_FORWARD));
+    TopoDS_Vertex firstVertex, lastVertex;
+    TopExp::Vertices(forward, firstVertex, lastVertex);
+    if (firstVertex.IsNull() || lastVertex.IsNull()) continue;
+    const BRepAdaptor_Curve curve(forward);
+    gp_Vec tangent;
+    if (unitTangent(curve, curve.FirstParameter(), tangent))
+      endsAt[corner[vertexMap.FindIndex(firstVertex) - 1]].push_back({e, tangent});
+    if (unitTangent(curve, curve.LastParameter(), tangent))
+      endsAt[corner[vertexMap.FindIndex(lastVertex) - 1]].push_back({e, tangent.Reversed()});
+  }
+  const double cosNarrow = std::cos(kNarrowCornerDeg * kPi / 180);
+  std::map<int, std::vector<int>> neighbours;
+  for (const auto& [point, ends] : endsAt)
+    for (size_t i = 0; i < ends.size(); ++i)
+      for (size_t j = i + 1; j < ends.size(); ++j) {
+        if (ends[i].edge == ends[j].edge || ends[i].leaving.Dot(ends[j].leaving) < cosNarrow) continue;
+        neighbours[ends[i].edge].push_back(ends[j].edge);
+        neighbours[ends[j].edge].push_back(ends[i].edge);
+      }
+  return neighbours;
 }
 
 }  // namespace
@@ -120,6 +167,7 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
 
   FeatureGraph graph;
   try {
+    std::vector<int> sharpEdges;
     for (int e = 0; e < solid.edgeCount(); ++e) {
       const TopoDS_Edge& edge = solid.edge(e);
       if (BRep_Tool::Degenerated(edge)) continue;
@@ -133,16 +181,31 @@ FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double s
       } else {
         sharp = !faces.empty();  // non-manifold edge: always a feature
       }
-      if (!sharp) continue;
+      if (sharp) sharpEdges.push_back(e);
+    }
+    const std::map<int, std::vector<int>> narrow = narrowCornerNeighbours(solid, sharpEdges, vertexMap, corner);
 
+    for (int e : sharpEdges) {
+      const TopoDS_Edge& edge = solid.edge(e);
       const TopoDS_Edge forward = TopoDS::Edge(edge.Oriented(TopAbs_FORWARD));
       TopoDS_Vertex firstVertex, lastVertex;
       TopExp::Vertices(forward, firstVertex, lastVertex);
       if (firstVertex.IsNull() || lastVertex.IsNull()) continue;  // infinite edge: not in a solid
       const bool closed = firstVertex.IsSame(lastVertex);
       BRepAdaptor_Curve curve(forward);
-      const std::vector<double> params = polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(),
-                                                            maxSegmentLength, sagittaTolerance, closed ? 3 : 1);
+      std::vector<double> params = polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(),
+                                                      maxSegmentLength, sagittaTolerance, closed ? 3 : 1);
+      const auto neighbours = narrow.find(e);
+      if (neighbours != narrow.end()) {
+        // Near a narrow corner the chords keep a fraction of the gap to the neighbouring
+        // curves, down to the floor.
+        auto gapTolerance = [&](const gp_Pnt& p) {
+          double gap = std::numeric_limits<double>::infinity();
+          for (int n : neighbours->second) gap = std::min(gap, solid.projectOnEdge(toPoint3(p), n).distance);
+          return kNarrowCornerGapFraction * gap;
+        };
+        refineParameters(curve, params, gapTolerance, kNarrowCornerFloor * diagonal);
+      }
 
       FeaturePolyline polyline;
       polyline.points.push_back(corner[vertexMap.FindIndex(firstVertex) - 1]);

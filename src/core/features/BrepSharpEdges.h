@@ -15,7 +15,9 @@ namespace oraclemesh {
 // edge). Seams, degenerated edges and tangent edges are left out; an edge with one face is
 // kept. Each polyline runs from the exact B-rep vertex to the exact B-rep vertex (shared
 // vertices give bitwise-equal end points) through points on the exact curve, with segments
-// no longer than `maxSegmentLength` and a small chord sagitta.
+// no longer than `maxSegmentLength` and a small chord sagitta; next to a vertex where two
+// sharp edges leave at under 15 degrees (exact tangents) the chords of each also stay within
+// a quarter of the gap to the other (down to 1e-4 of the diagonal).
 // Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
 // sagittaTolerance > 0 replaces featureSagittaTolerance (CurveSampling.h) as the chord bound.

@@ -2,8 +2,11 @@
 // Discretisation of exact B-rep curves into feature polylines, shared by the sharp edges and
 // the junction curves so both kinds of constrained segment are sampled alike.
 #include <BRepAdaptor_Curve.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
 
 #include <algorithm>
+#include <functional>
 #include <vector>
 
 namespace oraclemesh {
@@ -17,10 +20,10 @@ std::vector<double> polylineParameters(const BRepAdaptor_Curve& curve, double fi
 // How far the chords of a feature polyline may stray from their curve, for every kind of
 // feature curve of a model of bounding-box diagonal `diagonal`. Mesh_3 puts its feature vertices
 // on the chords and the pipeline then moves them onto the exact curve; where curves meet at a
-// few degrees (part.step: 2.5 degrees) such a move can fold a tet, and the node stays off the
-// curve (reported). 1e-5 of the diagonal left none off on part.step, but Mesh_3's protecting
-// ball refinement slows down with the number of polyline points (presse_asm.step did not
-// finish in 19 minutes), so the bound stays at 1e-3 of the diagonal.
+// few degrees (part.step) such a move can fold a tet. Sampling everything to 1e-5 of the
+// diagonal avoids that, but Mesh_3's protecting-ball refinement slows down with the number of
+// polyline points (presse_asm.step did not finish in 19 minutes), so the bound stays at 1e-3
+// of the diagonal and polylines are refined only near narrow corners (refineNearCurves).
 inline double featureSagittaTolerance(double maxSegmentLength, double diagonal) {
   return std::min(0.02 * maxSegmentLength, 1e-3 * diagonal);
 }
@@ -34,5 +37,18 @@ inline double featureSagittaTolerance(double maxSegmentLength, double diagonal) 
 inline double thesisSagittaTolerance(double maxSegmentLength, double facetDistance) {
   return std::min(0.05 * maxSegmentLength, 0.5 * facetDistance);
 }
+
+// Splits the segments of `params` (increasing curve parameters, as polylineParameters gives
+// them) at their parametric middle until the chord's sagitta is within
+// max(floorTolerance, localTolerance(curve point at the segment's middle)). Used where another
+// feature curve runs close by: a chord must then stay a small fraction of the gap between
+// the curves away from its own curve, or moving mesh nodes from the chord onto the curve folds
+// the elements in between. floorTolerance > 0 bounds the work.
+void refineParameters(const BRepAdaptor_Curve& curve, std::vector<double>& params,
+                      const std::function<double(const gp_Pnt&)>& localTolerance, double floorTolerance);
+
+// Unit tangent of the curve at parameter u, from BRepLProp (so also where the first derivative
+// vanishes but a higher one does not); false where the curve has no tangent there.
+bool unitTangent(const BRepAdaptor_Curve& curve, double u, gp_Vec& tangent);
 
 }  // namespace oraclemesh

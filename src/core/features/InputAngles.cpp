@@ -3,6 +3,7 @@
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Tool.hxx>
+#include <ShapeAnalysis_Curve.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -18,6 +19,7 @@
 #include "Error.h"
 #include "domain/BrepSolid.h"
 #include "features/BrepSharpEdges.h"
+#include "features/CurveSampling.h"
 
 namespace oraclemesh {
 
@@ -116,20 +118,78 @@ void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
   }
 }
 
-void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
-                 std::vector<SmallInputAngle>& out) {
+// Unit direction in which polyline `pl` leaves its end point (front, or back when `atBack`):
+// the exact tangent of its curve there (B-rep edges through BRepLProp, junction curves as
+// the cross product of their two faces' normals), signed by the end segment; the end segment
+// itself for user polylines and where the exact tangent is undefined. Chords would shrink
+// the angle between two curves leaving a vertex tangentially with the sampling.
+Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline& pl, const JunctionCurves* junctions,
+                        bool atBack) {
+  const size_t n = pl.points.size();
+  const Point3& end = atBack ? pl.points[n - 1] : pl.points[0];
+  const Point3 segment = atBack ? pl.points[n - 2] - pl.points[n - 1] : pl.points[1] - pl.points[0];
+  const Point3 chord = (1 / norm(segment)) * segment;
+  std::vector<gp_Vec> candidates;
+  if (pl.source >= 0 && pl.edge >= 0) {
+    if (const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[pl.source].source.get())) {
+      const BRepAdaptor_Curve curve(solid->edge(pl.edge));
+      // The end's parameter, and either end of the curve where the point is on it (a closed
+      // edge's vertex is at both).
+      const gp_Pnt p(end[0], end[1], end[2]);
+      const double tolerance = 1e-7 * oracle.diagonal();
+      gp_Pnt projected;
+      double u = curve.FirstParameter();
+      std::vector<double> params;
+      if (ShapeAnalysis_Curve().Project(curve, p, tolerance, projected, u) <= tolerance) params.push_back(u);
+      for (double curveEnd : {curve.FirstParameter(), curve.LastParameter()})
+        if (curve.Value(curveEnd).Distance(p) <= tolerance) params.push_back(curveEnd);
+      gp_Vec tangent;
+      for (double param : params)
+        if (unitTangent(curve, param, tangent)) candidates.push_back(tangent);
+    }
+  } else if (pl.junction >= 0 && junctions) {
+    const auto [entryA, entryB] = junctions->entries(pl.junction);
+    const auto [faceA, faceB] = junctions->faces(pl.junction);
+    const auto* solidA = dynamic_cast<const BrepSolid*>(oracle.entries()[entryA].source.get());
+    const auto* solidB = dynamic_cast<const BrepSolid*>(oracle.entries()[entryB].source.get());
+    gp_Vec normalA, normalB;
+    const gp_Pnt p(end[0], end[1], end[2]);
+    if (solidA && solidB && outwardNormalAt(solidA->face(faceA), p, normalA) &&
+        outwardNormalAt(solidB->face(faceB), p, normalB)) {
+      const gp_Vec tangent = normalA.Crossed(normalB);
+      if (tangent.Magnitude() > 1e-6) candidates.push_back(tangent.Normalized());
+    }
+  }
+  // The candidate (signed to run into the polyline) closest to the end segment: a closed
+  // edge that is not smooth at its vertex has different tangents at its two ends.
+  Point3 best = chord;
+  double bestAlignment = -2;
+  for (const gp_Vec& t : candidates) {
+    Point3 direction{t.X(), t.Y(), t.Z()};
+    if (dot(direction, chord) < 0) direction = -1.0 * direction;
+    if (dot(direction, chord) > bestAlignment) {
+      bestAlignment = dot(direction, chord);
+      best = direction;
+    }
+  }
+  return best;
+}
+
+void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, const JunctionCurves* junctions,
+                 double limit, std::vector<SmallInputAngle>& out) {
   // Feature curves meet at bitwise-equal end points (extraction and clipping guarantee it).
   struct End {
-    Point3 leaving;  // unit direction of the first segment away from the vertex
+    Point3 leaving;  // unit tangent of the curve, pointing away from the vertex
     int source;
   };
   std::map<Point3, std::vector<End>> ends;
   for (const FeaturePolyline& pl : features.polylines) {
     const size_t n = pl.points.size();
     if (n < 2) continue;
-    const Point3 atStart = pl.points[1] - pl.points[0], atEnd = pl.points[n - 2] - pl.points[n - 1];
-    if (norm(atStart) > 0) ends[pl.points[0]].push_back({(1 / norm(atStart)) * atStart, pl.source});
-    if (norm(atEnd) > 0) ends[pl.points[n - 1]].push_back({(1 / norm(atEnd)) * atEnd, pl.source});
+    if (distance(pl.points[0], pl.points[1]) > 0)
+      ends[pl.points[0]].push_back({leavingDirection(oracle, pl, junctions, false), pl.source});
+    if (distance(pl.points[n - 1], pl.points[n - 2]) > 0)
+      ends[pl.points[n - 1]].push_back({leavingDirection(oracle, pl, junctions, true), pl.source});
   }
   auto inputName = [&](int source) {
     return source >= 0 ? oracle.entries()[source].source->name() : std::string("junction");
@@ -137,7 +197,9 @@ void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
   for (const auto& [vertex, list] : ends)
     for (size_t i = 0; i < list.size(); ++i)
       for (size_t j = i + 1; j < list.size(); ++j) {
-        const double angle = degrees(std::acos(std::clamp(dot(list[i].leaving, list[j].leaving), -1.0, 1.0)));
+        // atan2 keeps angles of a fraction of a degree accurate (acos loses half the digits).
+        const double angle =
+            degrees(std::atan2(norm(cross(list[i].leaving, list[j].leaving)), dot(list[i].leaving, list[j].leaving)));
         if (angle >= limit) continue;
         SmallInputAngle a;
         a.kind = "curves";
@@ -260,7 +322,7 @@ std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& orac
   std::vector<SmallInputAngle> result;
   try {
     dihedralAngles(oracle, features, limitDeg, result);
-    curveAngles(oracle, features, limitDeg, result);
+    curveAngles(oracle, features, junctions, limitDeg, result);
     coneApexes(oracle, limitDeg, result);
     if (junctions) junctionAngles(oracle, features, *junctions, limitDeg, result);
   } catch (const Standard_Failure& failure) {

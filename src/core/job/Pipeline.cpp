@@ -400,19 +400,32 @@ SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
   }
   r.slivers_removed = removeFlatSurfaceSlivers(mesh, target);
   const std::vector<std::vector<int64_t>> tetsOfVertex = tetsOfVertices(mesh);
-  for (size_t v = 0; v < mesh.points.size(); ++v) {
-    if (move[v] == 0) continue;
-    if (degeneratesAnIncidentTet(mesh, tetsOfVertex[v], static_cast<int64_t>(v), target[v])) {
-      ++r.kept_off_surface;
-      if (move[v] > r.max_distance_kept) {
-        r.max_distance_kept = move[v];
-        r.worst_kept = mesh.points[v];
+  // A move that would fold a tet now may be fine once the tet's other corners have moved
+  // (neighbouring nodes on two curves meeting at a small angle): passes over the nodes still
+  // off their target repeat, in index order, until one moves none.
+  std::vector<int64_t> pending;
+  for (size_t v = 0; v < mesh.points.size(); ++v)
+    if (move[v] != 0) pending.push_back(static_cast<int64_t>(v));
+  for (size_t before = pending.size() + 1; !pending.empty() && pending.size() < before;) {
+    before = pending.size();
+    std::vector<int64_t> blocked;
+    for (int64_t v : pending) {
+      if (degeneratesAnIncidentTet(mesh, tetsOfVertex[v], v, target[v])) {
+        blocked.push_back(v);
+        continue;
       }
-      continue;
+      r.max_move = std::max(r.max_move, move[v]);
+      ++r.moved;
+      mesh.points[v] = target[v];
     }
-    r.max_move = std::max(r.max_move, move[v]);
-    ++r.moved;
-    mesh.points[v] = target[v];
+    pending.swap(blocked);
+  }
+  for (int64_t v : pending) {
+    ++r.kept_off_surface;
+    if (move[v] > r.max_distance_kept) {
+      r.max_distance_kept = move[v];
+      r.worst_kept = mesh.points[v];
+    }
   }
   return r;
 }
@@ -677,6 +690,13 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
       return std::isfinite(q.distance) ? q.point : mid;
     };
     straightMidNodes = makeSecondOrder(mesh, place);
+    straightMidNodes -= curveStraightFeatureMidNodes(mesh, [&](int64_t a, int64_t b, const Point3& p) -> Point3 {
+      auto f = featureCurveOfEdge.find(edgeKey(a, b));
+      const BoundaryProjection q = f != featureCurveOfEdge.end() && origins.count(f->second)
+                                       ? projectOnCurve(oracle, origins.at(f->second), p)
+                                       : BoundaryProjection{};
+      return std::isfinite(q.distance) ? q.point : Point3{NAN, NAN, NAN};
+    });
     clock.finish("second_order");
   }
 

@@ -96,12 +96,6 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
   for (size_t t = 0; t < mesh.tets.size(); ++t)
     for (int e = 0; e < 6; ++e) mesh.tet_mid_nodes[t][e] = firstMidNode + edgesOfTet[t][e];
 
-  std::vector<double> straightJacobian(mesh.tets.size());
-  for (size_t t = 0; t < mesh.tets.size(); ++t) {
-    const auto& v = mesh.tets[t];
-    straightJacobian[t] = 6.0 * tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]);
-  }
-
   // Place one edge at a time and re-check the tets around it with the mid nodes placed so
   // far: each accepted move keeps every tet valid, so the final mesh is valid wherever its
   // straight-sided version was.
@@ -122,8 +116,7 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
         mesh.points[midNode] = placed;
         for (int64_t i = tetsOfEdgeStart[e]; i < tetsOfEdgeStart[e + 1] && valid; ++i) {
           const auto t = static_cast<size_t>(tetsOfEdge[i]);
-          const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
-          valid = straightJacobian[t] > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian[t];
+          valid = curvedTetIsValid(mesh, t);
         }
       }
       if (!valid) {
@@ -135,6 +128,57 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
     pending = std::move(refused);
   }
   return static_cast<int>(pending.size());
+}
+
+bool curvedTetIsValid(const TetMesh& mesh, size_t t) {
+  const auto& v = mesh.tets[t];
+  const double straightJacobian =
+      6.0 * tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]);
+  const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
+  return straightJacobian > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian;
+}
+
+int curveStraightFeatureMidNodes(TetMesh& mesh, const MidNodePlacer& onCurve) {
+  if (mesh.order() != 2) return 0;
+  std::unordered_map<EdgeKey, char, EdgeHash> featureEdges;
+  for (const auto& fe : mesh.feature_edges) featureEdges.emplace(edgeKey(fe[0], fe[1]), 1);
+  // Feature mid nodes still straight, with the tets they belong to.
+  std::unordered_map<int64_t, std::vector<size_t>> tetsOfMidNode;
+  std::vector<std::pair<int64_t, EdgeKey>> straight;  // mid node, its edge; in first-met order
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int e = 0; e < 6; ++e) {
+      const EdgeKey key = edgeKey(mesh.tets[t][kTetEdgeCorners[e][0]], mesh.tets[t][kTetEdgeCorners[e][1]]);
+      if (!featureEdges.count(key)) continue;
+      const int64_t mid = mesh.tet_mid_nodes[t][e];
+      auto [it, added] = tetsOfMidNode.emplace(mid, std::vector<size_t>{});
+      it->second.push_back(t);
+      if (added) straight.push_back({mid, key});
+    }
+  int curved = 0;
+  for (const auto& [mid, key] : straight) {
+    const Point3 a = mesh.points[key[0]], b = mesh.points[key[1]];
+    const Point3 middle = 0.5 * (a + b);
+    if (mesh.points[mid] != middle) continue;  // curved by makeSecondOrder
+    const Point3 onArc = onCurve(key[0], key[1], middle);
+    if (!isFinite(onArc) || onArc == middle) continue;  // no curve, or a straight one
+    bool placed = false;
+    for (double offset : {0.05, 0.1, 0.15, 0.2}) {
+      for (double fraction : {0.5 + offset, 0.5 - offset}) {
+        const Point3 candidate = onCurve(key[0], key[1], a + fraction * (b - a));
+        if (!isFinite(candidate)) continue;
+        mesh.points[mid] = candidate;
+        placed = true;
+        for (size_t t : tetsOfMidNode[mid]) placed = placed && curvedTetIsValid(mesh, t);
+        if (placed) break;
+      }
+      if (placed) break;
+    }
+    if (placed)
+      ++curved;
+    else
+      mesh.points[mid] = middle;
+  }
+  return curved;
 }
 
 }  // namespace oraclemesh

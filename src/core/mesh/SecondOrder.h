@@ -29,4 +29,17 @@ using MidNodePlacer = std::function<Point3(int64_t a, int64_t b, const Point3& s
 // A mesh that is already second order is left unchanged (returns 0).
 int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place);
 
+// Whether tet t of a second-order mesh passes the safety rule above with its current nodes.
+bool curvedTetIsValid(const TetMesh& mesh, size_t t);
+
+// Second chance for the mid nodes of feature edges that makeSecondOrder left straight: where
+// two curves leave a vertex tangentially, a quadratic edge whose mid node is at the middle of
+// its arc leaves the vertex along the other curve, and the tets holding both edges have a zero
+// Jacobian determinant at that vertex. A mid node on the curve but off-centre (towards the
+// far end of the edge) tilts the quadratic edge back into the wedge. `onCurve(a, b, p)` puts
+// p onto the curve of feature edge (a, b) (non-finite: no curve). Tries points at 45-30 % and
+// 55-70 % of the edge, keeps the first that leaves every tet at the mid node valid; returns
+// how many mid nodes it put onto their curve (the others stay straight).
+int curveStraightFeatureMidNodes(TetMesh& mesh, const MidNodePlacer& onCurve);
+
 }  // namespace oraclemesh
