@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "features/RuleSetQ.h"
 
@@ -13,9 +14,6 @@ namespace {
 // Mesh_3 shrinks intersecting balls of non-neighbouring vertices to distance / 2.1; a little
 // more margin here leaves it nothing to shrink.
 constexpr double kSeparationDivisor = 2.5;
-// A neighbouring curve counts where it is closer than sin(10 degrees) x the distance to the
-// shared vertex: nearly tangent there, so Mesh_3's balls at the vertex do not separate them.
-const double kNeighbourCone = std::sin(10.0 * 3.14159265358979323846 / 180.0);
 
 double pointSegmentDistance(const Point3& p, const Point3& a, const Point3& b, double* parameter = nullptr) {
   const Point3 ab = b - a;
@@ -65,12 +63,12 @@ FeatureEdgeSizes localFeatureEdgeSizes(const FeatureGraph& graph, double maxSize
   for (size_t i = 0; i < n; ++i) result.at_points[i].assign(graph.polylines[i].points.size(), maxSize);
   if (n == 0 || !(maxSize > 0)) return result;
 
-  // Neighbours: polylines sharing an end vertex, with the shared vertices.
-  std::vector<std::map<int, std::vector<Point3>>> shared(n);
+  // Neighbours: polylines sharing an end vertex.
+  std::vector<std::set<int>> shared(n);
   for (const StarVertex& star : findStarVertices(graph, endTolerance))
     for (const StarVertex::Incident& e : star.incident)
       for (const StarVertex::Incident& f : star.incident)
-        if (e.polyline != f.polyline) shared[e.polyline][f.polyline].push_back(star.point);
+        if (e.polyline != f.polyline) shared[e.polyline].insert(f.polyline);
 
   // Separations beyond `reach` leave the size at maxSize, so a grid of that cell size finds
   // every segment that matters in the neighbouring cells.
@@ -112,15 +110,10 @@ FeatureEdgeSizes localFeatureEdgeSizes(const FeatureGraph& graph, double maxSize
           const std::vector<Point3>& q = graph.polylines[s.polyline].points;
           const double d = segmentDistance(p[k], p[k + 1], q[s.segment], q[s.segment + 1]);
           if (!(d < separation)) continue;
-          auto neighbour = shared[i].find(s.polyline);
-          if (neighbour != shared[i].end()) {
-            // Distance of the nearer of the two segments from the nearest shared vertex.
-            double fromVertex = std::numeric_limits<double>::infinity();
-            for (const Point3& v : neighbour->second)
-              fromVertex = std::min(fromVertex, std::min(pointSegmentDistance(v, p[k], p[k + 1]),
-                                                         pointSegmentDistance(v, q[s.segment], q[s.segment + 1])));
-            if (!(d < kNeighbourCone * fromVertex)) continue;
-          }
+          // Curves meeting at a vertex: Mesh_3 shrinks the few balls there that intersect
+          // (bounding them here as well cost part.step's 2.5-degree corners five times the
+          // balls).
+          if (shared[i].count(s.polyline)) continue;
           separation = d;
         }
       });

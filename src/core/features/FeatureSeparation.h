@@ -25,11 +25,10 @@ struct FeatureEdgeSizes {
 
 // The edge size at every polyline point: maxSize (the job's edge size, which stays an upper
 // bound), lowered to separation / 2.5 where `separation` is the distance from the point's
-// segments to the nearest segment of another curve that is not its neighbour, and to a third
-// of the polyline's length. A curve sharing an end vertex q with this one is its neighbour
-// except where it runs within a 10-degree cone around this curve as seen from q (curves that
-// leave q nearly tangent, or share a stretch): there the separation counts too. Sizes never go
-// below minSize. Deterministic and independent of the polyline order.
+// segments to the nearest segment of another curve that is not its neighbour (curves sharing
+// an end vertex are neighbours: Mesh_3 separates their balls at the vertex itself), and to a
+// third of the polyline's length. Sizes never go below minSize. Deterministic and independent
+// of the polyline order.
 FeatureEdgeSizes localFeatureEdgeSizes(const FeatureGraph& graph, double maxSize, double minSize,
                                        double endTolerance);
 
