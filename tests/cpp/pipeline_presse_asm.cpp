@@ -25,10 +25,11 @@ TEST(PresseAsm, SixteenMaterialsWithFeaturesMatchTheBooleanComposition) {
   // Facet distance 0.4 mm (the model is 718 mm across): the chords of its 15-40 mm bolts and
   // columns then cost well under 1 % of their volume. Exudation removes the flat slivers
   // Delaunay leaves on the planar contact faces; perturbation is off (it would take most of
-  // the time and does not change volumes).
+  // the time and does not change volumes). The edge size is the automatic one (facet size / 2,
+  // lowered where feature curves run close: features/FeatureSeparation).
   const nlohmann::json job = {
       {"inputs", {{{"name", "Presse"}, {"file", file}, {"materials", materials}}}},
-      {"criteria", {{"default", {{"cell_size", 30}, {"facet_size", 15}, {"facet_distance", 0.4}, {"edge_size", 6}}}}},
+      {"criteria", {{"default", {{"cell_size", 30}, {"facet_size", 15}, {"facet_distance", 0.4}}}}},
       {"optimize", {{"perturb", false}}},
       {"element_order", 2},
       {"seed", 0}};

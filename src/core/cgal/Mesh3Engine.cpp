@@ -25,6 +25,7 @@
 #include <unordered_map>
 
 #include "Error.h"
+#include "features/FeatureSeparation.h"
 
 namespace oraclemesh {
 namespace {
@@ -153,6 +154,43 @@ class MaterialSizeField {
   const Domain* domain_;
   const CriteriaTable* table_;
   double MaterialCriteria::*field_;
+};
+
+// The protecting-ball radius Mesh_3 asks for along the features: the features layer's local
+// sizes, linear along a curve between its polyline points; at a corner, the smallest size of
+// the curve ends there. Curve index k (1-based, Mesh_3's) is polyline k - 1.
+class FeatureEdgeSizeField {
+ public:
+  FeatureEdgeSizeField(const Domain* domain, const FeatureGraph* features,
+                       const std::vector<std::vector<double>>* sizes, double edgeSize)
+      : domain_(domain), features_(features), sizes_(sizes), edgeSize_(edgeSize) {}
+
+  FT operator()(const Point_3& p, const int dim, const Domain::Index& index) const {
+    if (sizes_->size() != features_->polylines.size()) return edgeSize_;
+    const Point3 q = toPoint3(p);
+    if (dim == 1) {
+      const int curve = domain_->curve_index(index);
+      if (curve >= 1 && curve <= static_cast<int>(sizes_->size()))
+        return edgeSizeOnPolyline(features_->polylines[curve - 1].points, (*sizes_)[curve - 1], q);
+    }
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const FeaturePolyline& pl : features_->polylines)
+      nearest = std::min({nearest, distance(pl.points.front(), q), distance(pl.points.back(), q)});
+    double size = edgeSize_;
+    for (size_t i = 0; i < sizes_->size(); ++i) {
+      const std::vector<Point3>& points = features_->polylines[i].points;
+      if (points.empty() || (*sizes_)[i].size() != points.size()) continue;
+      if (distance(points.front(), q) <= nearest) size = std::min(size, (*sizes_)[i].front());
+      if (distance(points.back(), q) <= nearest) size = std::min(size, (*sizes_)[i].back());
+    }
+    return size;
+  }
+
+ private:
+  const Domain* domain_;
+  const FeatureGraph* features_;
+  const std::vector<std::vector<double>>* sizes_;
+  double edgeSize_;
 };
 
 double strictestOver(const CriteriaTable& table, double MaterialCriteria::*field, bool smallerIsStricter) {
@@ -357,7 +395,8 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
     statistics->facet_angle_used = facetAngle;
   }
   namespace p = CGAL::parameters;
-  Criteria criteria(p::edge_size = edgeSize, p::facet_angle = facetAngle,
+  const FeatureEdgeSizeField edgeSizes(&domain, &features, &options.feature_edge_sizes, edgeSize);
+  Criteria criteria(p::edge_size = edgeSizes, p::facet_angle = facetAngle,
                     p::facet_size = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_size),
                     p::facet_distance = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_distance),
                     p::cell_radius_edge_ratio = radiusEdge,

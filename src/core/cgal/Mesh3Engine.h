@@ -3,6 +3,7 @@
 // only Mesh3Engine.cpp pays the Mesh_3 compile time.
 #include <map>
 #include <string>
+#include <vector>
 
 #include "MeshCriteria.h"
 #include "RunControl.h"
@@ -20,6 +21,10 @@ struct Mesh3Options {
   double sliver_bound = 10;         // dihedral angle (degrees) the optimizers try to reach
   int64_t max_vertices = 0;         // 0 = no limit
   unsigned seed = 0;                // Mesh_3's random choices (bisection start points)
+  // Edge size (protecting-ball radius) at every point of every feature polyline, indexed like
+  // FeatureGraph::polylines[i].points[k] (features/FeatureSeparation); empty = the criteria's
+  // edge_size everywhere.
+  std::vector<std::vector<double>> feature_edge_sizes;
 };
 
 struct Mesh3Statistics {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "domain/BrepSolid.h"
+
 namespace oraclemesh {
 namespace {
 
@@ -23,8 +25,47 @@ double distanceToPolyline(const Point3& p, const FeaturePolyline& pl) {
   return best;
 }
 
-// Inserts the vertices of `other` that lie on `pl` (strictly inside a segment) into `pl`.
-void insertVerticesOf(FeaturePolyline& pl, const FeaturePolyline& other, double tol) {
+// Whether points lie on the curve a polyline samples. The polyline's chords are within the
+// sampling sagitta of that curve; a B-rep edge polyline is asked about its exact edge.
+class SampledCurves {
+ public:
+  SampledCurves(const HierarchicalOracle& oracle, double tol, double curveTol)
+      : oracle_(oracle), tol_(tol), curveTol_(curveTol) {}
+
+  // `exact`: p is a sample of an exact curve (a polyline vertex), so on a shared curve it is on
+  // the edge to rounding; otherwise p is a chord point, up to a sagitta off.
+  bool onCurve(const Point3& p, const FeaturePolyline& pl, bool exact) const {
+    const double chord = distanceToPolyline(p, pl);
+    if (chord < tol_) return true;
+    if (!(curveTol_ > 0) || chord >= curveTol_ + tol_) return false;
+    const BrepSolid* solid = solidOf(pl);
+    if (!solid) return chord < curveTol_;
+    return solid->projectOnEdge(p, pl.edge).distance < (exact ? tol_ : curveTol_);
+  }
+
+  // Whether vertex q of another polyline lies on pl's exact curve near segment [a, b].
+  bool onExactCurveNear(const Point3& q, const FeaturePolyline& pl, const Point3& a, const Point3& b) const {
+    const double chord = distanceToSegment(q, a, b);
+    if (chord < tol_) return true;
+    const BrepSolid* solid = solidOf(pl);
+    return curveTol_ > 0 && solid && chord < curveTol_ && solid->projectOnEdge(q, pl.edge).distance < tol_;
+  }
+
+  double tolerance() const { return tol_; }
+
+ private:
+  const BrepSolid* solidOf(const FeaturePolyline& pl) const {
+    if (pl.source < 0 || pl.edge < 0 || pl.source >= static_cast<int>(oracle_.entries().size())) return nullptr;
+    return dynamic_cast<const BrepSolid*>(oracle_.entries()[pl.source].source.get());
+  }
+
+  const HierarchicalOracle& oracle_;
+  double tol_, curveTol_;
+};
+
+// Inserts the vertices of `other` that lie on `pl`'s curve (strictly inside a segment) into `pl`.
+void insertVerticesOf(FeaturePolyline& pl, const FeaturePolyline& other, const SampledCurves& curves) {
+  const double tol = curves.tolerance();
   std::vector<Point3> out;
   for (size_t i = 0; i + 1 < pl.points.size(); ++i) {
     const Point3 a = pl.points[i], b = pl.points[i + 1];
@@ -32,7 +73,9 @@ void insertVerticesOf(FeaturePolyline& pl, const FeaturePolyline& other, double 
     std::vector<std::pair<double, Point3>> inside;
     for (const Point3& q : other.points) {
       double t = 0;
-      if (distanceToSegment(q, a, b, &t) < tol && distance(q, a) > tol && distance(q, b) > tol) inside.emplace_back(t, q);
+      distanceToSegment(q, a, b, &t);
+      if (t > 0 && t < 1 && distance(q, a) > tol && distance(q, b) > tol && curves.onExactCurveNear(q, pl, a, b))
+        inside.emplace_back(t, q);
     }
     std::sort(inside.begin(), inside.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     for (const auto& [t, q] : inside) out.push_back(q);
@@ -64,14 +107,16 @@ bool flatAcross(const HierarchicalOracle& oracle, const Point3& p, const Point3&
 
 }  // namespace
 
-FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle) {
+FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle,
+                                      double curveTolerance) {
   const double tol = 1e-7 * oracle.diagonal();
+  const SampledCurves curves(oracle, tol, curveTolerance);
   const double ring = 1e-4 * oracle.diagonal();
   FeatureGraph result;
   std::vector<FeaturePolyline> kept;
   for (const FeaturePolyline& original : graph.polylines) {
     FeaturePolyline pl = original;
-    for (const FeaturePolyline& earlier : kept) insertVerticesOf(pl, earlier, tol);
+    for (const FeaturePolyline& earlier : kept) insertVerticesOf(pl, earlier, curves);
     const int entry = pl.source;
     // Split into runs of segments that are neither on an earlier polyline nor flat.
     std::vector<Point3> run;
@@ -87,7 +132,7 @@ FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const Hierarchi
       const Point3 a = pl.points[i], b = pl.points[i + 1];
       const Point3 mid = 0.5 * (a + b);
       bool drop = std::any_of(kept.begin(), kept.end(), [&](const FeaturePolyline& e) {
-        return distanceToPolyline(mid, e) < tol && distanceToPolyline(a, e) < tol && distanceToPolyline(b, e) < tol;
+        return curves.onCurve(a, e, true) && curves.onCurve(b, e, true) && curves.onCurve(mid, e, false);
       });
       if (!drop && entry > 0) {
         // On the boundary of a higher entry: keep only where the composite has a crease.

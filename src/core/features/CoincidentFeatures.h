@@ -12,6 +12,14 @@ namespace oraclemesh {
 // earlier polyline's vertices; then drops the parts of a lower entry's polyline that lie on a
 // higher entry's boundary where the composite boundary is flat (no crease). Fields other than
 // the points (curve, source, edge, junction) are kept on every piece; curves are renumbered.
-FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle);
+// Two samplings of one curve (an arc shared by parts in contact, with B-rep vertices at other
+// places; a junction curve along a sharp edge) have different chords that stray up to the
+// sampling sagitta from each other: with `curveTolerance` > 0 (twice that sagitta), a piece also
+// runs along an earlier B-rep edge polyline when its ends lie on that exact edge and its chord
+// midpoint within curveTolerance of it (along an earlier junction polyline: all three within
+// curveTolerance of its chords), and the earlier polyline's vertices on this one's exact edge
+// split it there.
+FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle,
+                                      double curveTolerance = 0);
 
 }  // namespace oraclemesh

@@ -22,6 +22,7 @@
 #include "features/CoincidentFeatures.h"
 #include "features/InputAngles.h"
 #include "features/CurveSampling.h"
+#include "features/FeatureSeparation.h"
 #include "features/JunctionCurves.h"
 #include "features/RuleSetQ.h"
 #include "features/UserPolylines.h"
@@ -186,6 +187,23 @@ Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
   return options;
 }
 
+// Mesh_3's protecting balls along the features: the job's edge size, lowered where curves run
+// close to one another or are short (features/FeatureSeparation), down to 1e-4 of the diagonal.
+FeatureEdgeSizes localEdgeSizes(const FeatureGraph& features, const CriteriaTable& table, double diagonal) {
+  double edgeSize = table.defaults.edge_size;
+  for (const auto& [id, c] : table.per_material) edgeSize = std::min(edgeSize, c.edge_size);
+  return localFeatureEdgeSizes(features, edgeSize, 1e-4 * diagonal, 1e-9 * diagonal);
+}
+
+json localEdgeSizesJson(const FeatureEdgeSizes& sizes) {
+  json j = {{"smallest", sizes.smallest}, {"points_lowered", sizes.bounded_points}};
+  if (std::isfinite(sizes.closest_separation)) {
+    j["closest_curves_apart"] = sizes.closest_separation;
+    j["closest_curves_at"] = sizes.closest_at;
+  }
+  return j;
+}
+
 // What the Rule Set Q preparation did, for the report.
 struct FeaturePreparation {
   int64_t crossing_pieces = 0;  // polylines added by splitting at crossings
@@ -228,7 +246,8 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     clipped = joinJunctions(clipped, junctions->polylines(edgeSize, sagitta), oracle, *junctions);
   }
   preparation.junctions = junctions;
-  clipped = removeCoincidentFeatures(clipped, oracle);
+  // Parts in contact along an arc sample it twice, a sagitta apart: those copies are one curve.
+  clipped = removeCoincidentFeatures(clipped, oracle, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()));
   std::vector<std::shared_ptr<const UserCurve>> userCurves(job.user_polylines.size());
   for (size_t i = 0; i < job.user_polyline_curves.size() && i < userCurves.size(); ++i)
     if (!job.user_polyline_curves[i].empty())
@@ -639,7 +658,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                          " element(s) still violate their criteria (see report.thesis.elements_left for where and "
                          "why; small input angles are the usual cause)");
   } else {
-    const Mesh3Options options = mesh3Options(job, criteria);
+    Mesh3Options options = mesh3Options(job, criteria);
+    const FeatureEdgeSizes edgeSizes = localEdgeSizes(features, criteria, diagonal);
+    options.feature_edge_sizes = edgeSizes.at_points;
     Mesh3Statistics stats;
     result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
     clock.finish("mesh3");  // the engine's total; its phases are reported beside it
@@ -647,7 +668,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     seedsOnBoundary = stats.initial_points;
     protectingBalls = stats.protecting_balls;
     engineReport = {{"cell_radius_edge_ratio_applied", stats.radius_edge_ratio_used},
-                    {"facet_angle_applied", stats.facet_angle_used}};
+                    {"facet_angle_applied", stats.facet_angle_used},
+                    {"feature_edge_size", localEdgeSizesJson(edgeSizes)}};
   }
   TetMesh& mesh = result.mesh;
 
@@ -731,6 +753,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   if (job.engine == "cgal") {
     crit["cell_radius_edge_ratio_applied"] = engineReport["cell_radius_edge_ratio_applied"];
     crit["facet_angle_applied"] = engineReport["facet_angle_applied"];
+    crit["feature_edge_size_applied"] = engineReport["feature_edge_size"];
   } else {
     report["thesis"] = engineReport;
     report["material_assignment"] = job.material_assignment;
