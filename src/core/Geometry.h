@@ -20,6 +20,16 @@ inline Point3 cross(const Point3& a, const Point3& b) {
 inline double norm(const Point3& a) { return std::sqrt(dot(a, a)); }
 inline double distance(const Point3& a, const Point3& b) { return norm(a - b); }
 
+// Distance from p to the segment ab; `parameter` (if given) gets the nearest point's position
+// along it, 0 at a and 1 at b.
+inline double distanceToSegment(const Point3& p, const Point3& a, const Point3& b, double* parameter = nullptr) {
+  const Point3 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  if (parameter) *parameter = t;
+  return distance(p, a + t * ab);
+}
+
 struct Bbox {
   Point3 min{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
              std::numeric_limits<double>::infinity()};

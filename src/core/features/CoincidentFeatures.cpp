@@ -10,14 +10,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double distanceToSegment(const Point3& p, const Point3& a, const Point3& b, double* parameter = nullptr) {
-  const Point3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  if (parameter) *parameter = t;
-  return distance(p, a + t * ab);
-}
-
 double distanceToPolyline(const Point3& p, const FeaturePolyline& pl) {
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i + 1 < pl.points.size(); ++i)

@@ -15,14 +15,6 @@ namespace {
 // more margin here leaves it nothing to shrink.
 constexpr double kSeparationDivisor = 2.5;
 
-double pointSegmentDistance(const Point3& p, const Point3& a, const Point3& b, double* parameter = nullptr) {
-  const Point3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  if (parameter) *parameter = t;
-  return distance(p, a + t * ab);
-}
-
 using GridCell = std::array<long long, 3>;
 
 GridCell cellOf(const Point3& p, double cellSize) {
@@ -40,8 +32,8 @@ struct SegmentRef {
 double segmentDistance(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   // The minimum over the square of parameters is at an interior stationary point or on an
   // edge of the square, where it is a point-to-segment distance.
-  double best = std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d), pointSegmentDistance(c, a, b),
-                          pointSegmentDistance(d, a, b)});
+  double best = std::min({distanceToSegment(a, c, d), distanceToSegment(b, c, d), distanceToSegment(c, a, b),
+                          distanceToSegment(d, a, b)});
   const Point3 u = b - a, v = d - c, w = a - c;
   const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), uw = dot(u, w), vw = dot(v, w);
   const double denominator = uu * vv - uv * uv;
@@ -138,7 +130,7 @@ double edgeSizeOnPolyline(const std::vector<Point3>& points, const std::vector<d
   double best = std::numeric_limits<double>::infinity(), size = sizes.front();
   for (size_t k = 0; k + 1 < points.size(); ++k) {
     double t = 0;
-    const double d = pointSegmentDistance(p, points[k], points[k + 1], &t);
+    const double d = distanceToSegment(p, points[k], points[k + 1], &t);
     if (d < best) {
       best = d;
       size = (1 - t) * sizes[k] + t * sizes[k + 1];

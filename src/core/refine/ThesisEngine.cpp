@@ -842,17 +842,39 @@ class RuleSetTRefiner {
     return false;
   }
 
-  // Where a bad cell is refined: its circumcentre, except for a flat cell. Four (nearly)
-  // coplanar corners, e.g. two samples each of two parallel feature circles on a cylinder,
-  // are (nearly) cocircular, and their circumcentre is then anywhere on the circle's axis:
-  // rounding put U_Joint_2.stp's 20 mm from the cell, where T3.4 inserted a stray vertex next
-  // to a face and the flat cell stayed. The centroid of such a cell lies inside the circle,
-  // so inside every sphere through its corners: its insertion always removes the cell.
+  // Whether a bad cell is refined at its circumcentre. Not so for a flat cell whose
+  // circumcentre lies farther than its longest edge from its corners: four (nearly) coplanar
+  // corners, e.g. two samples each of two parallel feature circles on a cylinder, are (nearly)
+  // cocircular, and their circumcentre is then anywhere on the circle's axis: rounding put
+  // U_Joint_2.stp's 20 mm from the cell, where T3.4 inserted a stray vertex next to a face and
+  // the flat cell stayed. A flat cell whose circumcentre stays near it (boundary points on a
+  // planar face) keeps the circumcentre and its redirections to the surface balls, which put
+  // the new point on the face; inserting its centroid as an interior point there instead made
+  // implant_in_bone (a) 31 % larger.
+  bool refinedAtCircumcentre(CH c) const {
+    if (flatness(c) >= kFlatCell) return true;
+    const Point3 centre = c->info().circumcentre;
+    for (int k = 0; k < 4; ++k)
+      if (distance(centre, toPoint3(c->vertex(k)->point())) > longestEdge(c)) return false;
+    return true;
+  }
+
+  // Where a bad cell is refined: its circumcentre, or else its centroid, which lies inside the
+  // circle of a flat cell's corners, so inside every sphere through them: its insertion always
+  // removes the cell.
   Point3 refinementPoint(CH c) const {
-    if (flatness(c) >= kFlatCell) return c->info().circumcentre;
+    if (refinedAtCircumcentre(c)) return c->info().circumcentre;
     Point3 centroid{0, 0, 0};
     for (int k = 0; k < 4; ++k) centroid = centroid + 0.25 * toPoint3(c->vertex(k)->point());
     return centroid;
+  }
+
+  double longestEdge(CH c) const {
+    double longest = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        longest = std::max(longest, distance(toPoint3(c->vertex(a)->point()), toPoint3(c->vertex(b)->point())));
+    return longest;
   }
 
   bool refineOneCell() {
@@ -889,9 +911,9 @@ class RuleSetTRefiner {
         continue;
       }
       Point3 ballCentre;
-      // A flat cell's facets have dual edges from its ill-defined circumcentre, so their
+      // A flat cell with a stray circumcentre: its facets have dual edges from that point, so their
       // surface balls say nothing about the boundary: its centroid goes in directly.
-      if (flatness(e.cell) >= kFlatCell && surfaceBallContaining(zone, ballCentre)) {
+      if (refinedAtCircumcentre(e.cell) && surfaceBallContaining(zone, ballCentre)) {
         const Zone surface = examine(ballCentre, e.cell);
         if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
           if (refuseSplit(surface.encroached, "T3.2")) continue;
