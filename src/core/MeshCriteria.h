@@ -1,6 +1,7 @@
 #pragma once
 // Per-material refinement criteria (thesis §2.2; same meaning as CGAL Mesh_3's criteria).
 // Lengths are in model units (mm in FreeCAD).
+#include <algorithm>
 #include <map>
 
 namespace oraclemesh {
@@ -21,6 +22,15 @@ struct CriteriaTable {
   const MaterialCriteria& of(int material) const {
     auto it = per_material.find(material);
     return it == per_material.end() ? defaults : it->second;
+  }
+
+  // The strictest value of one criterion over all materials, for settings that take one value
+  // for the whole mesh: the smallest when smaller is stricter (sizes), else the largest.
+  double strictest(double MaterialCriteria::*field, bool smallerIsStricter = true) const {
+    double value = defaults.*field;
+    for (const auto& [material, c] : per_material)
+      value = smallerIsStricter ? std::min(value, c.*field) : std::max(value, c.*field);
+    return value;
   }
 };
 

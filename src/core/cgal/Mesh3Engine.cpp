@@ -193,22 +193,6 @@ class FeatureEdgeSizeField {
   double edgeSize_;
 };
 
-double strictestOver(const CriteriaTable& table, double MaterialCriteria::*field, bool smallerIsStricter) {
-  double value = table.defaults.*field;
-  for (const auto& [material, c] : table.per_material)
-    value = smallerIsStricter ? std::min(value, c.*field) : std::max(value, c.*field);
-  return value;
-}
-
-double squaredDistanceToSegment(const Point3& p, const Point3& a, const Point3& b) {
-  const Point3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  double t = len2 > 0 ? dot(p - a, ab) / len2 : 0;
-  t = std::clamp(t, 0.0, 1.0);
-  const Point3 q = a + t * ab;
-  return dot(p - q, p - q);
-}
-
 // Mesh_3's own seeding shoots random rays from the bounding box centre and so misses small
 // or hidden boundary components (a thin pin beside a plate). We insert one or more points on
 // every face of every input that lies on the composite boundary, computed by Mesh_3's own
@@ -230,11 +214,11 @@ int64_t insertBoundarySeeds(C3t3& c3t3, const Domain& domain, const Hierarchical
       const Point3 b = s.point + probe * s.normal;
       if (oracle.label(a) == oracle.label(b)) continue;  // not on the composite boundary
       // Seeds inside protecting balls would be hidden by them or spoil the protection.
-      const double edgeClearance = 2 * strictestOver(criteria, &MaterialCriteria::edge_size, false);
+      const double edgeClearance = 2 * criteria.strictest(&MaterialCriteria::edge_size, false);
       bool nearFeature = false;
       for (const FeaturePolyline& pl : features.polylines) {
         for (size_t i = 0; i + 1 < pl.points.size() && !nearFeature; ++i)
-          nearFeature = squaredDistanceToSegment(s.point, pl.points[i], pl.points[i + 1]) < edgeClearance * edgeClearance;
+          nearFeature = distanceToSegment(s.point, pl.points[i], pl.points[i + 1]) < edgeClearance;
         if (nearFeature) break;
       }
       if (nearFeature) continue;
@@ -387,9 +371,9 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   }
 
   const CriteriaTable& table = options.criteria;
-  const double radiusEdge = strictestOver(table, &MaterialCriteria::cell_radius_edge_ratio, true);
-  const double facetAngle = std::min(30.0, strictestOver(table, &MaterialCriteria::facet_angle, false));
-  const double edgeSize = strictestOver(table, &MaterialCriteria::edge_size, true);
+  const double radiusEdge = table.strictest(&MaterialCriteria::cell_radius_edge_ratio, true);
+  const double facetAngle = std::min(30.0, table.strictest(&MaterialCriteria::facet_angle, false));
+  const double edgeSize = table.strictest(&MaterialCriteria::edge_size, true);
   if (statistics) {
     statistics->radius_edge_ratio_used = radiusEdge;
     statistics->facet_angle_used = facetAngle;

@@ -190,9 +190,8 @@ Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
 // Mesh_3's protecting balls along the features: the job's edge size, lowered where curves run
 // close to one another or are short (features/FeatureSeparation), down to 1e-4 of the diagonal.
 FeatureEdgeSizes localEdgeSizes(const FeatureGraph& features, const CriteriaTable& table, double diagonal) {
-  double edgeSize = table.defaults.edge_size;
-  for (const auto& [id, c] : table.per_material) edgeSize = std::min(edgeSize, c.edge_size);
-  return localFeatureEdgeSizes(features, edgeSize, 1e-4 * diagonal, 1e-9 * diagonal);
+  return localFeatureEdgeSizes(features, table.strictest(&MaterialCriteria::edge_size), 1e-4 * diagonal,
+                               1e-9 * diagonal);
 }
 
 json localEdgeSizesJson(const FeatureEdgeSizes& sizes) {
@@ -215,9 +214,7 @@ struct FeaturePreparation {
 // for the thesis engine, whose polyline samples are all mesh vertices (thesisSagittaTolerance).
 double thesisEngineSagitta(const JobSpec& job, const CriteriaTable& table, double edgeSize) {
   if (job.engine != "thesis") return 0;
-  double facetDistance = table.defaults.facet_distance;
-  for (const auto& [id, c] : table.per_material) facetDistance = std::min(facetDistance, c.facet_distance);
-  return thesisSagittaTolerance(edgeSize, facetDistance);
+  return thesisSagittaTolerance(edgeSize, table.strictest(&MaterialCriteria::facet_distance));
 }
 
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
@@ -225,8 +222,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
                            FeaturePreparation& preparation) {
   FeatureGraph all;
   if (!job.features) return all;
-  double edgeSize = table.defaults.edge_size;
-  for (const auto& [id, c] : table.per_material) edgeSize = std::min(edgeSize, c.edge_size);
+  const double edgeSize = table.strictest(&MaterialCriteria::edge_size);
   const double sagitta = thesisEngineSagitta(job, table, edgeSize);
   int nextCurve = 0;
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {

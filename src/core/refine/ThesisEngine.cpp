@@ -854,19 +854,17 @@ class RuleSetTRefiner {
   bool refinedAtCircumcentre(CH c) const {
     if (flatness(c) >= kFlatCell) return true;
     const Point3 centre = c->info().circumcentre;
+    const double longest = longestEdge(c);
     for (int k = 0; k < 4; ++k)
-      if (distance(centre, toPoint3(c->vertex(k)->point())) > longestEdge(c)) return false;
+      if (distance(centre, toPoint3(c->vertex(k)->point())) > longest) return false;
     return true;
   }
 
   // Where a bad cell is refined: its circumcentre, or else its centroid, which lies inside the
   // circle of a flat cell's corners, so inside every sphere through them: its insertion always
   // removes the cell.
-  Point3 refinementPoint(CH c) const {
-    if (refinedAtCircumcentre(c)) return c->info().circumcentre;
-    Point3 centroid{0, 0, 0};
-    for (int k = 0; k < 4; ++k) centroid = centroid + 0.25 * toPoint3(c->vertex(k)->point());
-    return centroid;
+  Point3 refinementPoint(CH c, bool atCircumcentre) const {
+    return atCircumcentre ? c->info().circumcentre : barycentre(c);
   }
 
   double longestEdge(CH c) const {
@@ -884,7 +882,8 @@ class RuleSetTRefiner {
       if (e.cell->info().stamp != e.stamp) continue;
       bool sizeFails = false;
       if (cellBadness(e.cell, &sizeFails) <= 0) continue;
-      const Zone zone = examine(refinementPoint(e.cell), e.cell);
+      const bool atCircumcentre = refinedAtCircumcentre(e.cell);
+      const Zone zone = examine(refinementPoint(e.cell, atCircumcentre), e.cell);
       // Terminator: a cell that meets its size but not the radius-edge bound next to a small
       // input angle cannot be fixed by splitting the subsegments there (each split makes a
       // new bad cell); and no subsegment is split below the terminator length.
@@ -913,7 +912,7 @@ class RuleSetTRefiner {
       Point3 ballCentre;
       // A flat cell with a stray circumcentre: its facets have dual edges from that point, so their
       // surface balls say nothing about the boundary: its centroid goes in directly.
-      if (refinedAtCircumcentre(e.cell) && surfaceBallContaining(zone, ballCentre)) {
+      if (atCircumcentre && surfaceBallContaining(zone, ballCentre)) {
         const Zone surface = examine(ballCentre, e.cell);
         if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
           if (refuseSplit(surface.encroached, "T3.2")) continue;
