@@ -1,8 +1,12 @@
 // User polylines (job features.polylines): kept as chains of mesh edges, on faces and inside
 // the volume, split where they cross each other and the box's sharp edges.
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <GC_MakeArcOfCircle.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
 #include <gtest/gtest.h>
 
 #include <set>
@@ -128,6 +132,49 @@ TEST(UserPolylines, NodesOfAPolylineWithItsCadEdgeLieOnTheExactCurve) {
       }
   EXPECT_GE(midNodes, mesh.feature_edges.size());
   EXPECT_LE(worstMid, tolerance);
+}
+
+// The edge of a hole on a plate's bottom face as an extra edge (FreeCAD sends chords plus the
+// exact circle): the chords cut across the hole, outside the plate by their sagitta (0.61 mm
+// here), yet the edge lies on the plate. Both engines keep it, with its nodes on the circle.
+TEST(UserPolylines, AHoleEdgeOnAnOuterFaceIsKeptThoughItsChordsCrossTheHole) {
+  const double radius = 8, pi = std::acos(-1.0);
+  const Point3 centre{20, 20, 0};
+  const TopoDS_Shape plate =
+      BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(40, 40, 10).Shape(),
+                      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(20, 20, -1), gp::DZ()), radius, 12).Shape())
+          .Shape();
+  const TopoDS_Edge circle = BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(20, 20, 0), gp::DZ()), radius));
+  nlohmann::json chords = nlohmann::json::array();
+  const int segments = 8;
+  for (int k = 0; k <= segments; ++k) {
+    const double a = 2 * pi * (k % segments) / segments;
+    chords.push_back({centre[0] + radius * std::cos(a), centre[1] + radius * std::sin(a), centre[2]});
+  }
+  for (const char* engine : {"cgal", "thesis"}) {
+    const nlohmann::json job = {
+        {"inputs", {{{"name", "Plate"}, {"brep", test::brepText(plate)}, {"material", 1}}}},
+        {"criteria", {{"default", {{"cell_size", 5}, {"facet_size", 5}, {"facet_distance", 0.5}, {"edge_size", 2}}}}},
+        {"features", {{"sharp_angle_deg", 0}, {"junctions", false},
+                      {"polylines", {{{"points", chords}, {"brep", test::brepText(circle)}}}}}},
+        {"engine", engine},
+        {"seed", 0}};
+    const JobResult result = runJob(JobSpec::fromJson(job, ""), RunControl());
+    const TetMesh& mesh = result.mesh;
+    const double tolerance = 1e-9 * result.report.at("bbox_diagonal").get<double>();
+    double worst = 0, length = 0;
+    for (const auto& e : mesh.feature_edges) {
+      for (int64_t v : e) {
+        const Point3& p = mesh.points[v];
+        worst = std::max({worst, std::abs(std::hypot(p[0] - centre[0], p[1] - centre[1]) - radius), std::abs(p[2])});
+      }
+      length += distance(mesh.points[e[0]], mesh.points[e[1]]);
+    }
+    EXPECT_LE(worst, tolerance) << engine;
+    EXPECT_LE(length, 2 * pi * radius) << engine;
+    EXPECT_GE(length, 0.98 * 2 * pi * radius) << engine;
+    EXPECT_TRUE(result.report.at("conformity").at("ok").get<bool>()) << engine;
+  }
 }
 
 TEST(UserPolylines, ABrepThatIsNotOneEdgeIsRefusedNamingThePolyline) {

@@ -67,11 +67,13 @@ bool boxesOverlap(const Bbox& a, const Bbox& b, double margin) {
 }  // namespace
 
 FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polylines, const HierarchicalOracle& oracle,
-                                  double maxSegmentLength) {
+                                  double maxSegmentLength,
+                                  const std::vector<std::shared_ptr<const UserCurve>>& curves) {
   FeatureGraph graph;
   const double onBoundary = 1e-6 * oracle.diagonal();
   for (size_t i = 0; i < polylines.size(); ++i) {
     const std::vector<Point3>& in = polylines[i];
+    const UserCurve* exact = i < curves.size() ? curves[i].get() : nullptr;
     // Each given segment is a polyline of its own: Mesh_3 keeps polyline ends as vertices but
     // may cut across a kink in the middle of a polyline.
     for (size_t k = 0; k + 1 < in.size(); ++k) {
@@ -84,8 +86,10 @@ FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polyli
       for (size_t m = 0; m < out.points.size(); ++m) {
         std::vector<Point3> probes{out.points[m]};
         if (m + 1 < out.points.size()) probes.push_back(0.5 * (out.points[m] + out.points[m + 1]));
-        for (const Point3& p : probes)
+        for (const Point3& probe : probes) {
+          const Point3 p = exact ? exact->nearest(probe) : probe;
           if (oracle.label(p) == 0 && oracle.projectOnBoundary(p).distance > onBoundary) throw InputError(where(i, p));
+        }
       }
       graph.polylines.push_back(std::move(out));
     }

@@ -14,9 +14,14 @@ namespace oraclemesh {
 // One FeaturePolyline per segment of a user polyline (`user` = the polyline's index,
 // source/edge/junction -1), so every given point stays a mesh vertex; split into pieces no
 // longer than maxSegmentLength. Throws InputError naming features.polylines[i] when a
-// polyline leaves the meshed domain (outside every material, or inside a cut).
+// polyline leaves the meshed domain (outside every material, or inside a cut). Where a
+// polyline has its exact CAD edge (`curves[i]`, may be null or shorter), the check is made on
+// that edge: chords of a hole's edge on an outer face cut across the hole, off the domain by
+// their sagitta, though the mesh edges end up on the exact edge.
+class UserCurve;
 FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polylines, const HierarchicalOracle& oracle,
-                                  double maxSegmentLength);
+                                  double maxSegmentLength,
+                                  const std::vector<std::shared_ptr<const UserCurve>>& curves = {});
 
 // Rule Set Q's first step (thesis §3.2.2): splits polylines where they cross or touch one
 // another so that every meeting point is an end point shared bitwise by all pieces.

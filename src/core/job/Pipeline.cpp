@@ -249,7 +249,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     if (!job.user_polyline_curves[i].empty())
       userCurves[i] = UserCurve::fromBrep(job.user_polyline_curves[i], "features.polylines[" + std::to_string(i) + "].brep");
   if (!job.user_polylines.empty()) {
-    const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize);
+    const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize, userCurves);
     clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
   }
   // Rule Set Q (thesis §3.2.2). Sharp edges of different inputs can cross mid-segment (edges
