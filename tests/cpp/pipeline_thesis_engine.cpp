@@ -262,6 +262,9 @@ TEST(ThesisEngine, SliverRemovalReachesTwelveDegreesKeepingSegments) {
   const json& thesis = optimized.report.at("thesis");
   EXPECT_GT(thesis.at("rule_insertions").value("S.4", 0), 0) << "rule S did not act";
   EXPECT_EQ(raw.report.at("thesis").at("rule_insertions").value("S.4", 0), 0) << "rule S runs without optimize";
+  // Rule P moves corners of the slivers rule S left; the final checks below hold after it.
+  EXPECT_GT(thesis.at("rule_insertions").value("P", 0), 0) << "rule P moved no vertex";
+  EXPECT_EQ(raw.report.at("thesis").at("rule_insertions").value("P", 0), 0) << "rule P runs without optimize";
   // Rule S inserts points, so T1-T3 still hold afterwards, and every subsegment (rule S splits
   // some) is a mesh edge of the final mesh.
   EXPECT_EQ(thesis.at("final_check").at("subsegments_not_edges"), 0);

@@ -158,8 +158,13 @@ BoundaryProjection HierarchicalOracle::projectOnBoundary(const Point3& p, int* e
   std::sort(order.begin(), order.end());
   BoundaryProjection best;
   int bestEntry = -1;
+  // A point this close to a boundary is on it (the thesis engine puts its surface vertices
+  // on the boundary up to rounding): the entries farther in the order could only win by a
+  // distance that moves nothing, and projecting onto them (OpenCASCADE for B-reps) was most
+  // of the boundary snap's time for such meshes.
+  const double onBoundary = 1e-3 * tolerance();
   for (const auto& [lowerBound, i] : order) {
-    if (lowerBound > best.distance) break;
+    if (lowerBound > best.distance || best.distance <= onBoundary) break;
     const BoundaryProjection q = entries_[i].source->project(p);
     if (q.distance < best.distance || (q.distance == best.distance && static_cast<int>(i) < bestEntry)) {
       best = q;

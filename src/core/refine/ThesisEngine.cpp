@@ -32,6 +32,8 @@
 //   barycentre: a flat cell on the face may have its circumcentre across the plane.
 //   - rule S (see refineSlivers), once T1-T3 have converged: S.4 a point near a sliver's
 //     circumcentre, S.1-S.3 its redirections as in T3.1-T3.3.
+//   - rule P (see perturbSlivers), last: moves a corner of each sliver rule S left (counted
+//     as "P" among the insertions, though it inserts nothing).
 #include "refine/ThesisEngine.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -46,6 +48,7 @@
 #include <queue>
 #include <random>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 #include "Error.h"
@@ -182,8 +185,12 @@ class RuleSetTRefiner {
       finalPlanarCheck();
       phase("planar_check");
     }
-    TetMesh mesh = extract();
+    // The elements left are Rule Set T's; the vertex moves after it aim at dihedral angles
+    // only (like CGAL's perturbation, which ran after the engine before them).
     listLeftElements();
+    perturbSlivers();
+    phase("vertex_moves");
+    TetMesh mesh = extract();
     listLeftSlivers();
     phase("extract");
     finalCheck();
@@ -329,10 +336,11 @@ class RuleSetTRefiner {
       info.label = info.centreLabel = 0;
       return;
     }
-    const CgalPoint cc = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(), c->vertex(2)->point(),
-                                            c->vertex(3)->point());
+    const std::array<VH, 4> corners = cornersForRounding(c);
+    const CgalPoint cc =
+        CGAL::circumcenter(corners[0]->point(), corners[1]->point(), corners[2]->point(), corners[3]->point());
     info.circumcentre = toPoint3(cc);
-    info.radius = std::sqrt(CGAL::squared_distance(cc, c->vertex(0)->point()));
+    info.radius = std::sqrt(CGAL::squared_distance(cc, corners[0]->point()));
     const bool byBarycentre = options_.assignment == MaterialAssignment::Barycenter || hasEdgeOnPlanarFace(c);
     // Four coplanar corners (on a planar face, or boundary points of one plane elsewhere)
     // leave the circumcentre at infinity or far off. A cell labelled by its circumcentre is
@@ -343,6 +351,17 @@ class RuleSetTRefiner {
       useCircleCentre(c, info);
     info.centreLabel = labelOf(info.circumcentre);
     info.label = byBarycentre ? labelOf(barycentre(c)) : info.centreLabel;
+  }
+
+  // A cell's corners in the order its circumcentre is computed in: as stored, unless rule P
+  // moves vertices, after which the stored order depends on memory layout (CGAL's vertex
+  // removal orders by handle) and the corners go by vertex id, so the rounding (labels,
+  // surface ball centres) is the same in every run.
+  std::array<VH, 4> cornersForRounding(CH c) const {
+    std::array<VH, 4> corners{c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+    if (movingVertices_)
+      std::sort(corners.begin(), corners.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+    return corners;
   }
 
   static Point3 barycentre(CH c) {
@@ -1353,6 +1372,358 @@ class RuleSetTRefiner {
     }
   }
 
+  // ------------------------------------------- P: vertex perturbation (beyond the thesis)
+  // Rule S leaves slivers whose circumcentre maps to a surface ball centre that makes no
+  // better cells (implant_in_bone (a): about 400 of them). Moving one of a sliver's corners
+  // instead, as CGAL's perturb_mesh_3 does, lifts most of them without new points; doing it
+  // here, on the engine's own triangulation, spares the pipeline rebuilding a Mesh_3 complex
+  // for CGAL's perturber (on implant_in_bone (a) that rebuild and perturbation took a third
+  // of the job). A move keeps the mesh's guarantees or is undone: only interior and surface
+  // corners move (never segment vertices, bounding corners or vertices the planar-face layer
+  // tracks), a surface corner goes back onto the boundary through the oracle's projection,
+  // and a move stays only when the smallest dihedral angle of the cells it replaces rises,
+  // every subsegment there stays an unencroached edge, and every new facet between two
+  // labels is a restricted facet on boundary vertices that meets the facet criteria. CGAL's
+  // perturbation still runs on whatever is left (Pipeline). Candidate targets are screened
+  // cheaply first: the corner's cells with the corner moved, before any Delaunay update.
+  static constexpr int kPerturbRounds = 12;
+  static constexpr int kPerturbCandidates = 10;  // targets screened per corner
+  static constexpr int kPerturbMoves = 3;        // moves tried per sliver and round
+  static constexpr double kPerturbMaxStep = 0.4; // x the sliver's shortest edge
+
+  struct VertexMove {
+    VH vertex;
+    Point3 target{};
+    double before = 0;  // smallest angle of the corner's labelled cells where it is
+    double score = 0;   // the same with the corner at target (cells kept as they are)
+  };
+
+  struct TrackedCell {
+    double angle;
+    uint64_t stamp;  // the cell is gone when its stamp changed
+    CH cell;
+  };
+
+  bool movable(VH v) const {
+    if (dt_.is_infinite(v) || v->info().far || v->info().dimension <= 1) return false;
+    return planarFacesOfVertex_.empty() || planarFacesOfVertex_[v->info().id].empty();
+  }
+
+  // The smallest dihedral angle of a tetrahedron in degrees, from the largest cosine between
+  // face normals: one acos instead of the six atan2 of Quality's dihedralAngles, since rule P
+  // measures tens of thousands of candidate cells and only compares the results.
+  static double smallestDihedralDeg(const std::array<Point3, 4>& p) {
+    static constexpr int kFaceOpposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    std::array<Point3, 4> normal;
+    std::array<double, 4> length;
+    for (int k = 0; k < 4; ++k) {
+      const auto& f = kFaceOpposite[k];
+      normal[k] = cross(p[f[1]] - p[f[0]], p[f[2]] - p[f[0]]);
+      length[k] = norm(normal[k]);
+      if (!(length[k] > 0)) return 0;
+    }
+    double largestCosine = -1;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        largestCosine = std::max(largestCosine, -dot(normal[i], normal[j]) / (length[i] * length[j]));
+    return std::acos(std::clamp(largestCosine, -1.0, 1.0)) * 180 / M_PI;
+  }
+
+  // The smallest dihedral angle of cell c with corner `moved` at p (none: VH()), its corners
+  // taken by vertex id: the order CGAL stores them in depends on memory layout once vertices
+  // have moved, and the rounding must not.
+  double minDihedralById(CH c, VH moved, const CgalPoint& p) const {
+    std::array<std::pair<int64_t, Point3>, 4> corners;
+    for (int k = 0; k < 4; ++k)
+      corners[k] = {c->vertex(k)->info().id, toPoint3(c->vertex(k) == moved ? p : c->vertex(k)->point())};
+    std::sort(corners.begin(), corners.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    return smallestDihedralDeg({corners[0].second, corners[1].second, corners[2].second, corners[3].second});
+  }
+
+  // Smallest dihedral angle of the labelled cells of `star` (the cells of v) with v at p,
+  // the cells kept as they are; -1 when one would turn flat or inside out. Stops at the first
+  // cell no better than `floor` (the result is then no better than floor either).
+  double starMinWithVertexAt(VH v, const std::vector<CH>& star, const CgalPoint& p, double floor) const {
+    double worst = 180;
+    for (CH c : star) {
+      if (dt_.is_infinite(c)) continue;
+      std::array<CgalPoint, 4> q;
+      for (int k = 0; k < 4; ++k) q[k] = c->vertex(k) == v ? p : c->vertex(k)->point();
+      if (CGAL::orientation(q[0], q[1], q[2], q[3]) != CGAL::POSITIVE) return -1;
+      if (c->info().label <= 0) continue;
+      worst = std::min(worst, minDihedralById(c, v, p));
+      if (worst <= floor) return worst;
+    }
+    return worst;
+  }
+
+  // Screened moves of sliver c's movable corners, best first: away from the opposite face
+  // (the sliver's volume grows) with a seeded random tilt, steps up to kPerturbMaxStep x its
+  // shortest edge. A candidate is kept only when it beats every earlier one of the sliver
+  // (branch and bound: the first cell no better ends its screening).
+  std::vector<VertexMove> screenedMoves(CH c, std::mt19937& random, int effort) const {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double scale = shortestEdge(c);
+    std::vector<VertexMove> moves;
+    // Corners by vertex id, so the seeded draws go to the same corners in every run.
+    std::array<int, 4> corners{0, 1, 2, 3};
+    std::sort(corners.begin(), corners.end(),
+              [&](int x, int y) { return c->vertex(x)->info().id < c->vertex(y)->info().id; });
+    double best = -1;
+    for (int k : corners) {
+      const VH v = c->vertex(k);
+      if (!movable(v)) continue;
+      std::vector<CH> star;
+      dt_.incident_cells(v, std::back_inserter(star));
+      const double before = starMinWithVertexAt(v, star, v->point(), -1);
+      std::array<Point3, 3> face;  // the opposite face, by vertex id
+      for (int n = 0, m = 0; n < 4; ++n)
+        if (corners[n] != k) face[m++] = toPoint3(c->vertex(corners[n])->point());
+      const Point3 p = toPoint3(v->point()), a = face[0], b = face[1], d = face[2];
+      Point3 away = cross(b - a, d - a);
+      const double len = norm(away);
+      if (!(len > 0)) continue;
+      away = (dot(away, p - a) < 0 ? -1.0 : 1.0) / len * away;
+      // A surface corner moves in its tangent plane (the oracle's projection would undo the
+      // rest): there a flat sliver's opposite face is about parallel to the surface, so the
+      // seeded tilt leads and the move is screened where the projection will put it.
+      const Point3 normal = v->info().dimension == 2 ? surfaceNormalAt(v, star) : Point3{0, 0, 0};
+      const bool onSurface = dot(normal, normal) > 0;
+      const int candidates = kPerturbCandidates * effort;
+      for (int j = 0; j < candidates; ++j) {
+        Point3 tilt;
+        do tilt = {unit(random), unit(random), unit(random)};
+        while (dot(tilt, tilt) > 1);
+        const double step = kPerturbMaxStep * scale * (j + 1) / candidates;
+        Point3 direction = onSurface ? 0.3 * away + tilt : away + 0.7 * tilt;
+        if (onSurface) direction = direction - dot(direction, normal) * normal;
+        if (!(norm(direction) > 0)) continue;
+        const Point3 target = p + (step / norm(direction)) * direction;
+        const double floor = std::max(before, best);
+        const double score = starMinWithVertexAt(v, star, toCgal(target), floor);
+        if (score <= floor) continue;
+        best = score;
+        moves.push_back({v, target, before, score});
+      }
+    }
+    std::reverse(moves.begin(), moves.end());  // scores rose along the list
+    return moves;
+  }
+
+  // Unit normal of the boundary at surface vertex v: the mean of the normals of the restricted
+  // facets at v (their sides made to agree with the first); zero when v has none.
+  Point3 surfaceNormalAt(VH v, const std::vector<CH>& star) const {
+    Point3 sum{0, 0, 0};
+    for (CH c : star) {
+      const int at = c->index(v);
+      for (int i = 0; i < 4; ++i) {
+        if (i == at || !c->info().facets[i].restricted) continue;
+        const Point3 a = toPoint3(c->vertex((i + 1) & 3)->point()), b = toPoint3(c->vertex((i + 2) & 3)->point()),
+                     d = toPoint3(c->vertex((i + 3) & 3)->point());
+        Point3 n = cross(b - a, d - a);
+        const double len = norm(n);
+        if (!(len > 0)) continue;
+        n = (dot(n, sum) < 0 ? -1.0 : 1.0) / len * n;
+        sum = sum + n;
+      }
+    }
+    const double len = norm(sum);
+    return len > 0 ? (1.0 / len) * sum : Point3{0, 0, 0};
+  }
+
+  // The cells moving v to target deletes (v's cells and the target's conflict zone) and the
+  // alive subsegments among their edges; false when target is a vertex already or closer
+  // than the terminator length to one.
+  bool cellsChangedByMove(VH v, const Point3& target, std::vector<CH>& cells, std::vector<int>& segments) const {
+    Zone zone = examine(target, v->cell());
+    if (zone.duplicate || zone.insertionRadius < terminatorLength_) return false;
+    cells = std::move(zone.cells);
+    std::vector<CH> star;
+    dt_.incident_cells(v, std::back_inserter(star));
+    for (CH c : star)
+      if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
+    segments.clear();
+    for (CH c : cells)
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {
+          const VH va = c->vertex(a), vb = c->vertex(b);
+          if (dt_.is_infinite(va) || dt_.is_infinite(vb)) continue;
+          auto it = segmentOf_.find(pairKey(va->info().id, vb->info().id));
+          if (it != segmentOf_.end() && std::find(segments.begin(), segments.end(), it->second) == segments.end())
+            segments.push_back(it->second);
+        }
+    return true;
+  }
+
+  std::array<int64_t, 4> cornerIds(CH c) const {
+    std::array<int64_t, 4> ids;
+    for (int k = 0; k < 4; ++k) ids[k] = dt_.is_infinite(c->vertex(k)) ? -1 : c->vertex(k)->info().id;
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  }
+
+  // Moves v to target in the triangulation and evaluates the new cells and their facets, in
+  // an order that does not depend on memory layout (stamps break ties elsewhere). A cell
+  // found in `before` (by its corners: an undo restores the cells the move deleted) takes
+  // its saved evaluation back, with its facets on both sides, instead of asking the oracle.
+  // A cell's evaluation kept for an undo, with its corners in its own order: facet i is
+  // opposite corner i, and the restored cell may list its corners in another order.
+  struct SavedCell {
+    CellInfo info;
+    std::array<VH, 4> corners;
+  };
+
+  std::vector<CH> relocate(VH v, const Point3& target, const std::vector<CH>& changed,
+                           const std::map<std::array<int64_t, 4>, SavedCell>* before = nullptr) {
+    for (CH c : changed) c->info().stamp = 0;  // queued entries of deleted cells read as stale
+    std::vector<CH> fresh;
+    dt_.move_if_no_collision_and_give_new_cells(v, toCgal(target), std::back_inserter(fresh));
+    std::vector<std::pair<std::array<int64_t, 4>, CH>> ordered;
+    for (CH c : fresh) ordered.emplace_back(cornerIds(c), c);
+    std::sort(ordered.begin(), ordered.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    fresh.clear();
+    for (const auto& [ids, c] : ordered) {
+      fresh.push_back(c);
+      auto saved = before ? before->find(ids) : before->end();
+      if (!before || saved == before->end()) {
+        evaluateCell(c);
+        continue;
+      }
+      c->info() = saved->second.info;
+      c->info().stamp = ++stampCounter_;
+      for (int i = 0; i < 4; ++i) {
+        const auto& was = saved->second.corners;
+        c->info().facets[i] = saved->second.info.facets[std::find(was.begin(), was.end(), c->vertex(i)) - was.begin()];
+        c->neighbor(i)->info().facets[c->neighbor(i)->index(c)] = c->info().facets[i];
+      }
+    }
+    for (CH c : fresh)
+      for (int i = 0; i < 4; ++i)
+        if (!c->info().facets[i].known) evaluateFacet(c, i);
+    return fresh;
+  }
+
+  double smallestLabelledAngle(const std::vector<CH>& cells) const {
+    double worst = 180;
+    for (CH c : cells)
+      if (!dt_.is_infinite(c) && c->info().label > 0) worst = std::min(worst, minDihedralById(c, VH(), CgalPoint()));
+    return worst;
+  }
+
+  // The guarantees a move must keep (see above), checked on the cells it made.
+  bool moveKeepsGuarantees(VH v, const std::vector<CH>& fresh, const std::vector<int>& segments) const {
+    for (int s : segments) {
+      const Subsegment& seg = segments_[s];
+      if (!seg.alive) continue;
+      CH c;
+      int i, j;
+      if (!dt_.is_edge(seg.a, seg.b, c, i, j) || strictlyInDiametralBall(v->point(), seg)) return false;
+    }
+    for (CH c : fresh)
+      for (int i = 0; i < 4; ++i) {
+        const CH n = c->neighbor(i);
+        const int labelHere = dt_.is_infinite(c) ? 0 : c->info().label;
+        const int labelThere = dt_.is_infinite(n) ? 0 : n->info().label;
+        if (c->info().facets[i].restricted ? facetBadness(c, i) > 0 : labelHere != labelThere) return false;
+      }
+    return true;
+  }
+
+  // Moves v to target if that keeps the guarantees and raises the smallest dihedral angle of
+  // the labelled cells it changes; else puts v back (the Delaunay triangulation of the same
+  // points is the same). True when the move stays; the cells made, by the move or its undo,
+  // are added to `made`.
+  bool tryVertexMove(VH v, const Point3& target, std::vector<CH>& made) {
+    const Point3 origin = toPoint3(v->point());
+    std::vector<CH> changed;
+    std::vector<int> segments;
+    if (!cellsChangedByMove(v, target, changed, segments)) return false;
+    const double before = smallestLabelledAngle(changed);
+    std::map<std::array<int64_t, 4>, SavedCell> saved;
+    for (CH c : changed)
+      saved.emplace(cornerIds(c), SavedCell{c->info(), {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)}});
+    const std::vector<CH> fresh = relocate(v, target, changed);
+    if (smallestLabelledAngle(fresh) > before && moveKeepsGuarantees(v, fresh, segments)) {
+      made.insert(made.end(), fresh.begin(), fresh.end());
+      return true;
+    }
+    std::vector<int> unused;
+    if (!cellsChangedByMove(v, origin, changed, unused))
+      throw Error("internal error: the thesis engine could not undo a vertex move");
+    const std::vector<CH> restored = relocate(v, origin, changed, &saved);
+    made.insert(made.end(), restored.begin(), restored.end());
+    return false;
+  }
+
+  // One try of rule P on sliver c; true when a corner moved. c may be gone afterwards
+  // either way: the cells made in its place are added to `made`.
+  bool perturbSliver(CH c, std::mt19937& random, int effort, std::vector<CH>& made) {
+    int tries = 0;
+    for (const VertexMove& m : screenedMoves(c, random, effort)) {
+      if (tries == kPerturbMoves) break;
+      Point3 target = m.target;
+      if (m.vertex->info().dimension == 2) {
+        const BoundaryProjection onBoundary = oracle_.projectOnBoundary(target);
+        if (!std::isfinite(onBoundary.distance)) continue;
+        target = onBoundary.point;
+        std::vector<CH> star;
+        dt_.incident_cells(m.vertex, std::back_inserter(star));
+        if (starMinWithVertexAt(m.vertex, star, toCgal(target), m.before) <= m.before) continue;
+      }
+      ++tries;
+      if (tryVertexMove(m.vertex, target, made)) {
+        ++stats_.insertions["P"];
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void trackIfSliver(CH c, std::vector<TrackedCell>& slivers) const {
+    if (dt_.is_infinite(c) || c->info().label <= 0) return;
+    const double angle = minDihedralById(c, VH(), CgalPoint());
+    if (angle < options_.sliver_dihedral_deg) slivers.push_back({angle, c->info().stamp, c});
+  }
+
+  void perturbSlivers() {
+    if (options_.sliver_dihedral_deg <= 0) return;
+    control_.report("vertex moves", 0);
+    movingVertices_ = true;
+    std::mt19937 random(options_.seed + 1);
+    // The first round looks at every cell; later ones at the slivers still there and the
+    // cells the moves made.
+    std::vector<TrackedCell> slivers;
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) trackIfSliver(c, slivers);
+    for (int round = 0; round < kPerturbRounds && !slivers.empty(); ++round) {
+      std::sort(slivers.begin(), slivers.end(), [](const TrackedCell& x, const TrackedCell& y) {
+        return x.angle != y.angle ? x.angle < y.angle : x.stamp < y.stamp;
+      });
+      // The few slivers the first rounds leave get more candidates each.
+      const int effort = round < kPerturbRounds / 2 ? 1 : 4;
+      std::vector<std::pair<uint64_t, CH>> made;  // stamp, cell
+      std::vector<TrackedCell> next;
+      int64_t moved = 0, tried = 0;
+      for (const TrackedCell& s : slivers) {
+        if ((++tried & 63) == 0) control_.checkpoint();
+        if (s.cell->info().stamp != s.stamp) continue;  // changed by an earlier move
+        std::vector<CH> cells;
+        moved += perturbSliver(s.cell, random, effort, cells);
+        // Cells made by an undone try may be gone with the next try (stamp 0).
+        for (CH c : cells)
+          if (c->info().stamp != 0) made.emplace_back(c->info().stamp, c);
+        if (s.cell->info().stamp == s.stamp) next.push_back(s);
+      }
+      if (moved == 0 && effort > 1) return;
+      for (const auto& [stamp, c] : made)
+        if (c->info().stamp == stamp) trackIfSliver(c, next);
+      // A sliver kept in `next` may have been changed by a later move of the round.
+      next.erase(std::remove_if(next.begin(), next.end(),
+                                [](const TrackedCell& s) { return s.cell->info().stamp != s.stamp; }),
+                 next.end());
+      slivers.swap(next);
+    }
+  }
+
   // Cells inside the materials still under the sliver bound, with the reason rule S left
   // them (perturbation, which runs next, works on them).
   void listLeftSlivers() {
@@ -1375,6 +1746,40 @@ class RuleSetTRefiner {
   }
 
   // ---------------------------------------------------------------------------- output
+  // The corners of the cells inside the materials, in the order the mesh lists them: the
+  // triangulation's own order unless vertices have moved (rule P). CGAL's vertex removal,
+  // which a move uses, creates cells in an order of handle addresses, which differ between
+  // runs; the mesh (and the optimizers and snap that follow, which depend on its order) must
+  // not. Then cells are sorted by their corners' vertex ids, each cell starting at its
+  // smallest id with its orientation kept.
+  std::vector<std::array<VH, 4>> labelledCellsInOutputOrder() const {
+    std::vector<std::array<VH, 4>> cells;
+    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c)
+      if (c->info().label > 0) cells.push_back({c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)});
+    if (stats_.insertions.count("P") == 0) return cells;
+    auto id = [](VH v) { return v->info().id; };
+    for (std::array<VH, 4>& corners : cells) {
+      int parity = 0;  // bubble sort by id; each swap flips the orientation
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j + 1 < 4 - i; ++j)
+          if (id(corners[j]) > id(corners[j + 1])) std::swap(corners[j], corners[j + 1]), parity ^= 1;
+      if (parity) std::swap(corners[2], corners[3]);
+    }
+    std::sort(cells.begin(), cells.end(), [&](const auto& x, const auto& y) {
+      for (int k = 0; k < 4; ++k)
+        if (id(x[k]) != id(y[k])) return id(x[k]) < id(y[k]);
+      return false;
+    });
+    return cells;
+  }
+
+  CH cellOf(const std::array<VH, 4>& corners) const {
+    CH c;
+    int i, j, k, l;
+    dt_.is_cell(corners[0], corners[1], corners[2], corners[3], c, i, j, k, l);
+    return c;
+  }
+
   TetMesh extract() const {
     TetMesh mesh;
     std::unordered_map<int64_t, int64_t> index;  // vertex id -> mesh index
@@ -1387,9 +1792,9 @@ class RuleSetTRefiner {
       }
       return it->second;
     };
-    for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) {
-      if (c->info().label <= 0) continue;
-      mesh.tets.push_back({indexOf(c->vertex(0)), indexOf(c->vertex(1)), indexOf(c->vertex(2)), indexOf(c->vertex(3))});
+    for (const std::array<VH, 4>& corners : labelledCellsInOutputOrder()) {
+      const CH c = cellOf(corners);
+      mesh.tets.push_back({indexOf(corners[0]), indexOf(corners[1]), indexOf(corners[2]), indexOf(corners[3])});
       mesh.tet_materials.push_back(c->info().label);
     }
     for (const Subsegment& s : segments_) {
@@ -1496,6 +1901,7 @@ class RuleSetTRefiner {
   std::map<std::array<int64_t, 3>, std::string> planarLeft_;
   int64_t verticesAtPlanarCheck_ = -1;
   bool planarChecked_ = false;
+  bool movingVertices_ = false;  // rule P has started (see cornersForRounding)
 };
 
 void validate(const HierarchicalOracle& oracle, const RuleSetTOptions& options) {
