@@ -80,9 +80,11 @@ TEST(ThesisSharedModels, UJointFlatCellBetweenParallelEdgesIsRefined) {
 // curve encroached the other's subsegments and T1.2's midpoint splits answered each other
 // down to 0.017 mm pieces; each close pair of segment vertices made slivers that neither rule
 // S nor CGAL's perturbation (which keeps segment vertices fixed) could lift: 9,863 tets, 937
-// under 10 degrees, min 0.34 degrees after 70 s of perturbation (Mesh_3: 0.14 degrees). The
-// terminator now leaves such subsegments encroached below twice the terminator length while
-// they are Delaunay edges, and facets there that fail only the facet angle are left.
+// under 10 degrees, min 0.34 degrees after 70 s of perturbation (Mesh_3: 0.14 degrees). Now
+// T1.1 splits at a small-angle star at l_min,i (the first pair of vertices on the two curves
+// lies farther from the apex, where the curves are farther apart), the terminator leaves such
+// subsegments encroached below twice the terminator length while they are Delaunay edges,
+// and facets there that fail only the facet angle are left.
 TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const std::string file = test::cadDir() + "/part.step";
   const auto loaded = BrepSolid::loadFile(file, "part", BrepSolid::Grouping::Separate);
@@ -101,8 +103,7 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const json& thesis = r.report.at("thesis");
   const json& quality = r.report.at("quality");
 
-  EXPECT_GT(thesis.at("rule_insertions").value("T1.2 left encroached", 0), 0) << "the terminator did not engage";
-  // Subsegments left encroached are still mesh edges.
+  // Subsegments the terminator may leave encroached are still mesh edges.
   const json& check = thesis.at("final_check");
   EXPECT_EQ(check.at("subsegments_not_edges").get<int>(), 0);
   EXPECT_EQ(check.at("restricted_facets_off_boundary").get<int>(), 0);
@@ -113,10 +114,10 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const double meshed = test::volumePerMaterial(m).at(1);
   EXPECT_NEAR(meshed, brepVolume, 0.01 * brepVolume);
 
-  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now about 7,700, 150 and 1.2.
-  EXPECT_LT(m.tets.size(), 9000u);
-  EXPECT_LT(quality.at("min_dihedral_histogram_10deg").at(0).get<int>(), 300);
-  EXPECT_GT(quality.at("min_dihedral_deg").get<double>(), 1.0);
+  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now 6,275, 69 and 2.3.
+  EXPECT_LT(m.tets.size(), 7000u);
+  EXPECT_LT(quality.at("min_dihedral_histogram_10deg").at(0).get<int>(), 150);
+  EXPECT_GT(quality.at("min_dihedral_deg").get<double>(), 2.0);
   std::cout << "[figures] part.step thesis sharp tet4: " << m.tets.size() << " tets, min dihedral "
             << quality.at("min_dihedral_deg") << ", under 10 degrees "
             << quality.at("min_dihedral_histogram_10deg").at(0) << ", slivers rule S left "

@@ -275,7 +275,7 @@ class RuleSetTRefiner {
       const int star = starAt(end == 0 ? s.a : s.b);
       if (star < 0) continue;
       const Point3 from = end == 0 ? a : b, to = end == 0 ? b : a;
-      const double third = stars_[star].lmin / 3;
+      const double third = firstSplitRadius(stars_[star]);
       if (len > third * (1 + 1e-9)) return {"T1.1", splitPointOnCurve(s, from + (third / len) * (to - from), &from, third)};
       const double shortest = shortestAtStar(star);
       if (len > shortest * (1 + 1e-9))
@@ -284,6 +284,15 @@ class RuleSetTRefiner {
     if (assumeEncroached || encroached(s)) return {"T1.2", splitPointOnCurve(s, 0.5 * (a + b))};
     return {};
   }
+
+  // Where T1.1 splits the subsegments at a star vertex: l_min,i / 3 (thesis). Beyond the
+  // thesis, at a star whose curves meet at a small angle, at l_min,i: its pieces are split to
+  // equal chords (the shell rule), which never encroach each other, and the closer the first
+  // split to the apex the closer the pair of vertices it leaves on two tangent curves (the
+  // gap grows with the square of the distance): part.step's line tangent to an arc left
+  // pairs 0.006 mm apart at 0.55 mm, slivers of 1.2 degrees after perturbation; at 1.66 mm,
+  // 2.3 degrees, and 6,275 tets instead of 7,731.
+  static double firstSplitRadius(const Star& star) { return star.smallAngle ? star.lmin : star.lmin / 3; }
 
   // The point of curve `curve` for a vertex meant at p, when options_.onto_curve knows the
   // curve: with `from`, the curve point at distance `radius` from it, found by projecting
