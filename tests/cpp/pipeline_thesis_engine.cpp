@@ -304,11 +304,15 @@ TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {
   EXPECT_NEAR(volumes.at(2), coneVolume, 0.03 * coneVolume);
   EXPECT_EQ(r.report.at("thesis").at("final_check").at("encroached_subsegments"), 0);
   // The terminator leaves elements only at the small angles: along the wedge's 10-degree edge
-  // (the z axis from 0 to 8) or at the cone's tip (40, 0, 15).
+  // (the z axis from 0 to 8) or at the cone's tip (40, 0, 15), within the reach the engine
+  // gives a small angle (4 subsegment lengths, 6 mm at edge_size 1.5). Facets in the
+  // 10-degree corners of the wedge's top and bottom faces keep a small angle while the face
+  // is narrower than edge_size (within 8.5 mm of the edge); since T2.1 leaves those that
+  // fail the facet angle alone, they and the cells on them stay coarser, up to 3.6 mm out.
   for (const auto& e : r.report.at("thesis").at("elements_left")) {
     const Point3 p = e.at("location").get<Point3>();
     const double toEdge = distance(p, {0, 0, std::clamp(p[2], 0.0, 8.0)});
-    EXPECT_LT(std::min(toEdge, distance(p, {40, 0, height})), 1.0) << e.dump();
+    EXPECT_LT(std::min(toEdge, distance(p, {40, 0, height})), 6.0) << e.dump();
     EXPECT_FALSE(e.at("reason").get<std::string>().empty());
   }
   std::cout << "[figures] wedge + cone, thesis: " << r.mesh.points.size() << " vertices, "
