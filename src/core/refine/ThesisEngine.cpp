@@ -620,6 +620,25 @@ class RuleSetTRefiner {
     return false;
   }
 
+  // Beyond the thesis: the terminator for T1.2 itself. Next to an input angle under 60
+  // degrees, such as curves leaving a star vertex tangentially (presse_asm.step's nut, whose
+  // chamfer circle touches the hexagon's flats), the subsegments of the two curves encroach
+  // each other at every scale and each midpoint split makes the next encroachment: they went
+  // down to 0.01 mm, and the surfaces around them followed. There a subsegment shorter than
+  // twice the terminator length that is an edge of the triangulation is left encroached (the
+  // final check counts it), as T2.1 and T3.1 leave such subsegments; one that is no edge is
+  // split, so every subsegment stays a mesh edge. (An insertion that takes the edge away
+  // queues the subsegment again: it was an edge of a conflict cell.)
+  bool segmentLeftAtSmallAngle(int index) {
+    const Subsegment& s = segments_[index];
+    if (length(s) / 2 >= terminatorLength_ || !nearSmallAngle(s)) return false;
+    CH c;
+    int i, j;
+    if (!dt_.is_edge(s.a, s.b, c, i, j)) return false;
+    unsplittable_.push_back(index);
+    return true;
+  }
+
   // -------------------------------------------------------------------- initial points
   // Inner point k of a polyline, put on its curve (Rule Set Q's l_min / 3 points lie on the
   // chords, and the snap moving them flattens cells): next to an end, at the same chord
@@ -788,6 +807,7 @@ class RuleSetTRefiner {
       if (!segments_[index].alive) continue;
       const SegmentSplit split = badSegmentSplit(index, false);
       if (split.rule.empty()) continue;
+      if (split.rule == "T1.2" && segmentLeftAtSmallAngle(index)) continue;
       if (splitSegment(index, split.point, split.rule)) return true;
     }
     return false;
