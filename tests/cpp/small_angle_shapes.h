@@ -57,4 +57,16 @@ inline TopoDS_Shape cusp(double length, double rise, double height) {
   return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(wire.Wire()).Face(), gp_Vec(0, 0, height)).Shape();
 }
 
+// A 20 x 10 block (prism of the given height along z) whose upper right edge is chamfered: the
+// chamfer leaves the top face (y = 10) at x = 16, sloping down at `chamferDeg`. A part resting
+// on the top face and reaching past x = 20 closes an outside wedge of `chamferDeg` along the
+// chamfer's upper edge (presse_asm.step's nut under solid #14).
+inline TopoDS_Shape chamferedBlock(double chamferDeg, double height) {
+  BRepBuilderAPI_MakePolygon profile(gp_Pnt(0, 0, 0), gp_Pnt(20, 0, 0), gp_Pnt(20, 10 - 4 * std::tan(chamferDeg * kDegree), 0),
+                                     gp_Pnt(16, 10, 0), Standard_False);
+  profile.Add(gp_Pnt(0, 10, 0));
+  profile.Close();
+  return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(profile.Wire()).Face(), gp_Vec(0, 0, height)).Shape();
+}
+
 }  // namespace oraclemesh::test

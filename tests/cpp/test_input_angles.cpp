@@ -176,5 +176,28 @@ TEST(InputAngles, PerpendicularPinHasNoSmallJunctionWedge) {
   EXPECT_EQ(junctions, 2) << "both circles";
 }
 
+TEST(InputAngles, PartRestingOnAChamferClosesAContactWedge) {
+  const TopoDS_Shape block = test::chamferedBlock(40, 10);
+  // Alone, the block's chamfer edges are obtuse (140 and 130 degrees): nothing small.
+  const Composition alone = compose({{block, "block"}});
+  for (const SmallInputAngle& a : findSmallInputAngles(*alone.oracle, alone.features, 60))
+    EXPECT_NE(a.kind, "contact") << a.angle_deg;
+  // A cover on the top face, reaching past the chamfer: a 40-degree gap along the chamfer's
+  // upper edge (x = 16, y = 10), measured in 5-degree steps.
+  const Composition covered = compose({{BRepPrimAPI_MakeBox(gp_Pnt(-5, 10, -5), gp_Pnt(25, 15, 15)).Shape(), "cover"},
+                                       {block, "block"}});
+  int contacts = 0;
+  for (const SmallInputAngle& a : findSmallInputAngles(*covered.oracle, covered.features, 60)) {
+    if (a.kind != "contact") continue;
+    ++contacts;
+    EXPECT_NEAR(a.angle_deg, 40, 5 + 1e-9);
+    EXPECT_EQ(a.input, "block");
+    EXPECT_NEAR(a.location[0], 16, 1e-6);
+    EXPECT_NEAR(a.location[1], 10, 1e-6);
+  }
+  EXPECT_EQ(contacts, 1);
+}
+
+
 }  // namespace
 }  // namespace oraclemesh

@@ -12,6 +12,7 @@
 #include <gp_Cone.hxx>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -315,6 +316,79 @@ void junctionAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
   }
 }
 
+// Composite wedges along the sharp B-rep edges in `features` where another input's boundary
+// passes through the edge: a part resting on a chamfered nut covers the chamfer's upper edge,
+// and the gap between its flat face and the chamfer is an outside wedge that the single-solid
+// dihedral angle does not see (presse_asm.step: about 30 degrees along the nut's 32 mm circle).
+// Such curves get the terminator rules of small dihedral angles. At samples of the edge that
+// lie on another input's boundary (within ten times the oracle tolerance), the labels of
+// kProbes points on a small circle in the plane normal to the edge give the sectors; three or
+// more runs of labels mean that other inputs take part, and the shortest run is the wedge.
+void contactWedges(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
+                   std::vector<SmallInputAngle>& out) {
+  std::set<std::pair<int, int>> featureEdges;  // (entry, edge)
+  for (const FeaturePolyline& pl : features.polylines)
+    if (pl.source >= 0 && pl.edge >= 0) featureEdges.insert({pl.source, pl.edge});
+  const auto& entries = oracle.entries();
+  const double radius = 1e-4 * oracle.diagonal();
+  constexpr int kProbes = 72, kSamples = 5;
+  for (const auto& [entry, e] : featureEdges) {
+    const auto* solid = dynamic_cast<const BrepSolid*>(entries[entry].source.get());
+    if (!solid) continue;
+    const TopoDS_Edge& edge = solid->edge(e);
+    double first, last;
+    BRep_Tool::Range(edge, first, last);
+    BRepAdaptor_Curve curve(edge);
+    SmallInputAngle smallest;
+    smallest.angle_deg = 360;
+    for (int i = 0; i < kSamples; ++i) {
+      const double u = first + (i + 0.5) / kSamples * (last - first);
+      gp_Pnt at;
+      gp_Vec d1;
+      curve.D1(u, at, d1);
+      const Point3 p = toPoint3(at);
+      bool touched = false;  // another input's boundary passes through the edge here
+      for (size_t j = 0; j < entries.size() && !touched; ++j)
+        touched = static_cast<int>(j) != entry && entries[j].source->bbox().contains(p, radius) &&
+                  entries[j].source->project(p).distance <= 10 * oracle.tolerance();
+      if (!touched || d1.Magnitude() <= 0) continue;
+      Point3 tangent{d1.X(), d1.Y(), d1.Z()};
+      tangent = (1 / norm(tangent)) * tangent;
+      // Any unit vector across the tangent, then the third axis.
+      Point3 e1 = cross(tangent, std::abs(tangent[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0});
+      e1 = (1 / norm(e1)) * e1;
+      const Point3 e2 = cross(tangent, e1);
+      std::array<int, kProbes> label;
+      for (int k = 0; k < kProbes; ++k) {
+        const double angle = 2 * kPi * k / kProbes;
+        label[k] = oracle.label(p + radius * (std::cos(angle) * e1 + std::sin(angle) * e2));
+      }
+      int start = 0;  // a change of label, so that runs do not wrap around
+      while (start < kProbes && label[start] == label[(start + kProbes - 1) % kProbes]) ++start;
+      if (start == kProbes) continue;
+      std::vector<int> runs;
+      int run = 0;
+      for (int k = 0; k < kProbes; ++k) {
+        const int at_k = (start + k) % kProbes;
+        ++run;
+        if (label[at_k] != label[(at_k + 1) % kProbes]) runs.push_back(run), run = 0;
+      }
+      if (runs.size() < 3) continue;
+      const double wedge = 360.0 * *std::min_element(runs.begin(), runs.end()) / kProbes;
+      if (wedge < smallest.angle_deg) {
+        smallest.angle_deg = wedge;
+        smallest.location = p;
+      }
+    }
+    if (smallest.angle_deg < limit) {
+      smallest.kind = "contact";
+      smallest.input = solid->name();
+      smallest.edge = e;
+      out.push_back(smallest);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
@@ -325,6 +399,7 @@ std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& orac
     curveAngles(oracle, features, junctions, limitDeg, result);
     coneApexes(oracle, limitDeg, result);
     if (junctions) junctionAngles(oracle, features, *junctions, limitDeg, result);
+    contactWedges(oracle, features, limitDeg, result);
   } catch (const Standard_Failure& failure) {
     throw Error(std::string("OpenCASCADE failed while measuring the input angles (") + failure.GetMessageString() +
                 "): check the solids with Part > Check geometry");

@@ -17,12 +17,15 @@ struct SmallInputAngle {
   // "curves": two feature curves leave a common vertex at this angle;
   // "cone_apex": the full opening angle of a conical face ending in a point;
   // "junction": a material wedge where the boundaries of two inputs cross (the plate's wedge
-  // under a pin entering it at a shallow angle), from their exact face normals.
+  // under a pin entering it at a shallow angle), from their exact face normals;
+  // "contact": a wedge (of a material or of the outside) along a sharp B-rep edge where the
+  // faces of other inputs touch it, such as the air gap between a nut's top chamfer and the
+  // flat part resting on the nut; measured from oracle labels around the edge (5 degree steps).
   std::string kind;
   double angle_deg = 0;
   Point3 location{};  // where the angle is smallest
   std::string input;  // the input(s) the angle belongs to ("a / b" for curves of two inputs)
-  int edge = -1;      // 0-based B-rep edge index for "dihedral", -1 otherwise
+  int edge = -1;      // 0-based B-rep edge index for "dihedral" and "contact", -1 otherwise
 };
 
 // The input angles under `limitDeg` on the composite boundary: dihedral angles along the B-rep

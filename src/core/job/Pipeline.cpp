@@ -576,10 +576,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     options.seed = job.seed;
     std::vector<SkippedPlanarFace> skippedPlanarFaces;
     if (job.planar_faces) options.planar_faces = findPlanarFaces(oracle, job.sharp_angle_deg, &skippedPlanarFaces);
-    // Where the terminator rule may leave cells: curves along small dihedral angles, and the
-    // points where curves meet at small angles or cones end.
+    // Where the terminator rule may leave cells: curves along small dihedral angles and along
+    // wedges that touching inputs close, and the points where curves meet at small angles or
+    // cones end.
     for (const SmallInputAngle& a : smallAngles) {
-      if (a.kind != "dihedral") {
+      if (a.kind != "dihedral" && a.kind != "contact") {
         options.small_angle_points.push_back(a.location);
         continue;
       }

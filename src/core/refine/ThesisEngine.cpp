@@ -825,8 +825,10 @@ class RuleSetTRefiner {
   // Terminator for T1.2 (beyond the thesis). Two curves that meet at a small angle (part.step:
   // a line tangent to an arc) run within less than their sampling of each other: every
   // vertex on one lies in the diametral balls of the other's subsegments, and midpoint
-  // splits answer each other down to any length (part.step: 0.017 mm pieces, 1/400 of the
-  // edge size, each close pair of segment vertices a sliver). Next to a small input angle a
+  // splits answer each other down to any length (part.step before the l_min,i first split:
+  // 0.017 mm pieces, 1/400 of the edge size, each close pair of segment vertices a sliver;
+  // presse_asm.step's nut, whose chamfer circle touches the hexagon's flats: 0.01 mm, the
+  // surfaces around following; tests PresseNut.*). Next to a small input angle a
   // subsegment shorter than twice the terminator length that is still a Delaunay edge, which
   // is all the constraint needs, is left encroached; one that lost its edge is still split.
   bool encroachmentTerminatorRefuses(int index) {
