@@ -828,7 +828,7 @@ class RuleSetTRefiner {
   // splits answer each other down to any length (part.step before the l_min,i first split:
   // 0.017 mm pieces, 1/400 of the edge size, each close pair of segment vertices a sliver;
   // presse_asm.step's nut, whose chamfer circle touches the hexagon's flats: 0.01 mm, the
-  // surfaces around following; tests PresseNut.*). Next to a small input angle a
+  // surfaces around following; test PresseNutThesis.*). Next to a small input angle a
   // subsegment shorter than twice the terminator length that is still a Delaunay edge, which
   // is all the constraint needs, is left encroached; one that lost its edge is still split.
   bool encroachmentTerminatorRefuses(int index) {
