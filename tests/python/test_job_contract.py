@@ -63,12 +63,14 @@ def test_sphere_tet10_volume_and_nodes_on_surface(engine):
 
 
 def test_default_engine_is_thesis():
-    """Rule Set T is the default since it beat Mesh_3 on the refine benchmark (issue 7)."""
-    job = sphere_job(order=1)
+    """Rule Set T is the default since it beat Mesh_3 on the refine benchmark (issue 7): a job
+    without "engine" runs on it and may use its own options."""
+    job = sphere_job(order=1, material_assignment="barycenter")
     assert "engine" not in job
     result = oraclemesh.run(job)
     assert result.report["engine"] == "thesis"
     assert "thesis" in result.report  # the engine's own report section
+    assert result.report["material_assignment"] == "barycenter"
     assert len(result.tets) > 100
 
 
@@ -98,6 +100,7 @@ BAD_JOBS = [
     # Mesh_3's own error path: it assigns materials by circumcentre only.
     (sphere_job(engine="cgal", material_assignment="barycenter"), "engine 'thesis'"),
     (sphere_job(engine="thesis", initial_points=[[0, 0]]), "initial_points[0]"),
+    (sphere_job(engine="cgal", initial_points=[[1, 2, 3]]), "not supported by the 'cgal' engine"),
 ]
 
 
