@@ -5,7 +5,7 @@
 A steel pin (cylinder r 5, h 40) through an aluminium plate (box 100 x 60 x 10, no hole: the
 pin overlaps it and wins by priority) with a cut box removing one corner of the plate. A FEM
 analysis with both materials, the plate fixed at x = 0 and pulled down (1000 N) at x = 100,
-meshed by OracleMesh (tet10) and solved by CalculiX through FreeCAD's FEM workbench.
+meshed by OracleMesh (tet10, the default engine: Rule Set T) and solved by CalculiX through FreeCAD's FEM workbench.
 The document is built by oraclemesh_fc.demo (shared with the macro and the GUI tests).
 Writes to OUT_DIR (default ./out): demo.FCStd, mesh.vtu, mesh.inp, report.json, ccx/ (the
 CalculiX run), and prints a summary. Exit code 0 on success, 1 with a message on failure.

@@ -14,7 +14,9 @@ int usage() {
   std::cerr << "usage: oraclemesh JOB.json\n"
                "  Meshes the inputs of the job file (see README.md, 'The job contract') and writes\n"
                "  the files listed in output.files and output.report. Relative paths in the job are\n"
-               "  relative to the job file's folder.\n";
+               "  relative to the job file's folder.\n"
+               "  \"engine\": \"thesis\" (default; Rule Set T, constrained sharp edges) or \"cgal\"\n"
+               "  (CGAL Mesh_3 with protecting balls).\n";
   return 2;
 }
 

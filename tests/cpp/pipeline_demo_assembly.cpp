@@ -1,6 +1,7 @@
 // The walking skeleton's geometry checks on the demo assembly: a pin through a plate (the pin
 // wins the overlap by priority) with a cut box removing one corner of the plate. Checked
-// against OpenCASCADE itself: Boolean volumes, exact distances to faces and edges.
+// against OpenCASCADE itself: Boolean volumes, exact distances to faces and edges. The job
+// names no engine: these checks run on the default one.
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Section.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>

@@ -292,7 +292,8 @@ TEST(PartStep, SharpEdgesAreMeshEdgeChainsOnTheCurves) {
             << " (largest chord bound, per edge: " << chordBound << ")\n";
   EXPECT_LE(nodeDistance, std::max(nodeBound, reportedDistance + nodeBound));
   EXPECT_LE(midNodeDistance, std::max(nodeBound, reportedDistance + nodeBound));
-  // Mesh_3 keeps protecting-ball centres at most edge_size apart; snapping moves them along the
+  // Feature nodes are at most edge_size apart (the thesis engine's segments are sampled so and
+  // only split further; Mesh_3 places its protecting balls so); snapping moves them along the
   // curve by far less than that.
   EXPECT_LE(longestChord, edgeSize * (1 + 1e-3));
 }
@@ -305,7 +306,7 @@ TEST(PartStep, VolumeWithFeaturesMatchesTheBrepAndFeaturelessDoesNot) {
   std::cout << "[ figures  ] part.step tet10 volume: B-rep " << brep << ", with features " << with << " ("
             << 100 * errorWith << " %), featureless " << without << " (" << 100 * errorWithout << " %)\n";
   EXPECT_LE(std::abs(errorWith), 0.005);
-  // Without features Mesh_3 cuts across the sharp edges (the volume shrinks); what that costs
+  // Without features the mesh cuts across the sharp edges (the volume shrinks); what that costs
   // depends on the facet sizes, so only the sign and the order of magnitude are asserted.
   EXPECT_LT(errorWithout, 0);
   EXPECT_GT(std::abs(errorWithout), std::abs(errorWith));

@@ -74,6 +74,7 @@ def test_task_panel_reorders_and_meshes(gui):
     assert gui["panel_open"] and gui["mesh_in_analysis"]
     assert gui["planar_faces_shown"] == [False, False] and gui["planar_faces_written"] is True
     assert gui["panel_rows"] == ["Pin", "Plate"]  # selection order = priority
+    assert gui["new_mesh_engine"] == ["thesis", "thesis"]  # the default engine (issue 7)
     assert gui["panel_materials"] == ["Steel", "Aluminium"]  # from the FEM materials
     assert gui["rows_with_cut"] == [["CornerCut", "cut"], ["Pin", "material"],
                                     ["Plate", "material"]]
@@ -183,7 +184,7 @@ def test_drag_and_drop_reorders(gui):
 @needs_gui
 def test_undo_and_preferences(gui):
     assert gui["undo"] == {"applied": 45.0, "after_undo": 30.0}
-    assert gui["prefs_loaded"] == {"order": 2, "engine": "cgal"}
+    assert gui["prefs_loaded"] == {"order": 2, "engine": "thesis"}
     assert gui["prefs_saved"]["ElementOrder"] == 1 and gui["prefs_saved"]["Preset"] == "coarse"
     assert gui["thesis_engine_enabled"] is True
 

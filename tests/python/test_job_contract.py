@@ -62,6 +62,18 @@ def test_sphere_tet10_volume_and_nodes_on_surface(engine):
     assert result.report["counts"]["tets"] == len(result.tets)
 
 
+def test_default_engine_is_thesis():
+    """Rule Set T is the default since it beat Mesh_3 on the refine benchmark (issue 7): a job
+    without "engine" runs on it and may use its own options."""
+    job = sphere_job(order=1, material_assignment="barycenter")
+    assert "engine" not in job
+    result = oraclemesh.run(job)
+    assert result.report["engine"] == "thesis"
+    assert "thesis" in result.report  # the engine's own report section
+    assert result.report["material_assignment"] == "barycenter"
+    assert len(result.tets) > 100
+
+
 def test_progress_is_reported_and_cancel_stops():
     phases = []
     oraclemesh.run(sphere_job(order=1), progress=lambda phase, f: phases.append((phase, f)))
@@ -85,8 +97,10 @@ BAD_JOBS = [
     (sphere_job(criteria={"default": {"cell_size": -1}}), "positive"),
     (sphere_job(criteria={"default": {"cell_size": 1e-4}}), "max_vertices"),
     (sphere_job(engine="delaunay"), "engine must be 'cgal' (Mesh_3) or 'thesis'"),
-    (sphere_job(material_assignment="barycenter"), "engine 'thesis'"),
+    # Mesh_3's own error path: it assigns materials by circumcentre only.
+    (sphere_job(engine="cgal", material_assignment="barycenter"), "engine 'thesis'"),
     (sphere_job(engine="thesis", initial_points=[[0, 0]]), "initial_points[0]"),
+    (sphere_job(engine="cgal", initial_points=[[1, 2, 3]]), "not supported by the 'cgal' engine"),
 ]
 
 

@@ -416,7 +416,7 @@ def build_job(mesh_obj):
     if polylines:
         features["polylines"] = polylines
     if bool(getattr(mesh_obj, "PlanarFaces", False)):
-        if str(getattr(mesh_obj, "Engine", "cgal")) != "thesis" or not features or not features.get("junctions"):
+        if str(getattr(mesh_obj, "Engine", "thesis")) != "thesis" or not features or not features.get("junctions"):
             raise MeshInputError(
                 "PlanarFaces of '%s' needs Engine 'thesis', a sharp-edge angle above 0 and "
                 "Junctions on (the planar faces' borders must be kept as mesh edges): set them or "
@@ -427,7 +427,7 @@ def build_job(mesh_obj):
         "inputs": job_inputs,
         "criteria": {"default": default, "materials": per_material},
         "features": features,
-        "engine": str(getattr(mesh_obj, "Engine", "cgal")),
+        "engine": str(getattr(mesh_obj, "Engine", "thesis")),
         "element_order": int(mesh_obj.ElementOrder),
         "optimize": {"perturb": bool(mesh_obj.Optimize), "exude": bool(mesh_obj.Optimize)},
         "seed": int(mesh_obj.Seed),

@@ -14,7 +14,11 @@ from .handoff import build_femmesh, feature_edge_mid_nodes
 from .job import build_job, input_kinds, name_polylines
 from .runner import import_core, run_job
 
-ENGINE_NAMES = ("cgal", "thesis")  # the job's "engine" values
+# The job's "engine" values; the first is the default of new mesh objects. Rule Set T is the
+# default since it beat Mesh_3 on the refine benchmark (issue 7).
+ENGINE_NAMES = ("thesis", "cgal")
+# What documents saved before the Engine property existed were meshed with.
+ENGINE_OF_OLD_DOCUMENTS = "cgal"
 
 TYPE = "Fem::OracleMesh"
 
@@ -66,8 +70,8 @@ PROPERTIES = (
     ("App::PropertyString", "OutputReport", "Output",
      "Path of the JSON report the core also writes, optional", ""),
     ("App::PropertyEnumeration", "Engine", "Mesh",
-     "Meshing engine: cgal (CGAL Mesh_3 with protecting balls) or thesis (Rule Set T: constrained "
-     "segments, per-material radius-edge ratio)",
+     "Meshing engine: thesis (default; Rule Set T: constrained segments, per-material "
+     "radius-edge ratio) or cgal (CGAL Mesh_3 with protecting balls)",
      list(ENGINE_NAMES)),
     ("App::PropertyBool", "Junctions", "Mesh",
      "Keep the curves where inputs meet (material junctions) as mesh edges", True),
@@ -117,8 +121,13 @@ class OracleMeshProxy:
                 obj.setEditorMode(name, 2)
 
     def onDocumentRestored(self, obj):
+        had_engine = hasattr(obj, "Engine")
         self.add_properties(obj)
-        # Documents saved before an engine was added list fewer choices.
+        if not had_engine:
+            # Saved before engines could be chosen: keep meshing it as it was meshed then.
+            obj.Engine = ENGINE_OF_OLD_DOCUMENTS
+        # Documents saved by other versions list other choices (or another order): keep the
+        # stored engine.
         if list(obj.getEnumerationsOfProperty("Engine")) != list(ENGINE_NAMES):
             chosen = obj.Engine
             obj.Engine = list(ENGINE_NAMES)
@@ -242,7 +251,7 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
     and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
-    engine ("cgal" or "thesis"), optimize, seed, max_vertices, time_limit,
+    engine ("thesis", the default, or "cgal"), optimize, seed, max_vertices, time_limit,
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
     ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
     (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).

@@ -9,8 +9,9 @@ PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/OracleMesh"
 # Size presets: cell size = model bounding-box diagonal / divisor ("automatic" leaves every
 # size at 0, so the core derives them: diagonal / 15).
 PRESETS = (("automatic", None), ("coarse", 8.0), ("moderate", 15.0), ("fine", 30.0))
-ENGINES = (("cgal", "CGAL Mesh_3", True),
-           ("thesis", "Rule Set T (thesis)", True))
+# The first engine is the default (the same as a new mesh object's, mesh_object.ENGINE_NAMES).
+ENGINES = (("thesis", "Rule Set T (thesis)", True),
+           ("cgal", "CGAL Mesh_3", True))
 
 
 def params():
@@ -21,7 +22,7 @@ def defaults():
     p = params()
     return {
         "Preset": p.GetString("Preset", "automatic"),
-        "Engine": p.GetString("Engine", "cgal"),
+        "Engine": p.GetString("Engine", ENGINES[0][0]),
         "ElementOrder": p.GetInt("ElementOrder", 2),
         "SharpAngle": p.GetFloat("SharpAngle", 30.0),
     }

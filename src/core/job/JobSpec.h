@@ -63,7 +63,10 @@ struct JobSpec {
   // "brep": "..."}, as FreeCAD sends its extra edges), else empty. Mesh nodes along such a
   // polyline go onto the exact edge instead of the chords.
   std::vector<std::string> user_polyline_curves;
-  std::string engine = "cgal";  // "cgal" (Mesh_3) or "thesis" (Rule Set T)
+  // "thesis" (Rule Set T) or "cgal" (Mesh_3). Thesis is the default since it beat Mesh_3 on
+  // the refine benchmark (issue 7); Mesh_3 stays one setting away for the inputs it handles
+  // better (protecting balls terminate for any input angle).
+  std::string engine = "thesis";
   // Thesis engine only: which point of a cell decides its material ("circumcenter", Pons
   // 2007, or "barycenter", thesis §4.1), and points inserted before refinement.
   std::string material_assignment = "circumcenter";

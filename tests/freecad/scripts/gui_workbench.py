@@ -149,6 +149,8 @@ def check(out):
     out["mesh_in_analysis"] = mesh in analysis.Group
     out["panel_rows"] = [r.obj.Name for r in panel.rows]
     out["panel_materials"] = [r.material for r in panel.rows]
+    # The engine a new mesh object starts with, as the panel's combo shows it.
+    out["new_mesh_engine"] = [panel.engine.currentData(), mesh.Engine]
 
     step("add the corner as a cut at the top")
     FreeCADGui.Selection.clearSelection()
@@ -179,8 +181,8 @@ def check(out):
     out["cuts"] = [o.Name for o in mesh.Cuts]
     out["inputs"] = [o.Name for o in mesh.Inputs]
     out["input_sizes"] = dict(mesh.InputSizes)
-    # The planar-faces checkbox shows and writes PlanarFaces (off by default; the cgal
-    # engine would refuse it, so it is switched off again before the next mesh).
+    # The planar-faces checkbox shows and writes PlanarFaces (off by default; switched off
+    # again before the next mesh, which is checked as meshed without it).
     out["planar_faces_shown"] = [panel.planar_faces.isChecked(), mesh.PlanarFaces]
     panel.planar_faces.setChecked(True)
     panel.write_object()

@@ -57,6 +57,7 @@ def check(params):
     out["report_counts"] = report["counts"]
     out["report_features"] = report["features"]
     out["report_engine"] = report["engine"]
+    out["new_mesh_engine"] = mesh.Engine
     ids, angles, groups = quality.element_quality(mesh)
     out["quality_min"] = float(angles.min())
     out["quality_count"] = len(angles)
@@ -78,6 +79,10 @@ def check(params):
     old = makeMesh(doc, [block], cell_size=4.0, element_order=1, name="OldMesh")
     for name in NEW_PROPERTIES:
         old.removeProperty(name)
+    # A document of a version that listed the engines in another order stored Mesh_3.
+    stored = makeMesh(doc, [block], cell_size=4.0, element_order=1, name="StoredCgal")
+    stored.Engine = ["cgal", "thesis"]
+    stored.Engine = "cgal"
     path = os.path.join(params["workdir"], "old.FCStd")
     doc.saveAs(path)
     FreeCAD.closeDocument(doc.Name)
@@ -85,6 +90,8 @@ def check(params):
     old = doc.getObject("OldMesh")
     out["restored_properties"] = {n: hasattr(old, n) for n in NEW_PROPERTIES}
     out["restored_engine"] = old.Engine
+    stored = doc.getObject("StoredCgal")
+    out["stored_engine"] = [stored.Engine, list(stored.getEnumerationsOfProperty("Engine"))]
     out["restored_junctions"] = old.Junctions
     out["restored_planar_faces"] = old.PlanarFaces
     doc.recompute()
