@@ -29,6 +29,25 @@ double flatness(const TetMesh& m, size_t t) {
   return 6 * std::abs(test::tetVolume(m, t)) / (shortest * shortest * shortest);
 }
 
+// A shared model's one solid, meshed at default sizes with sharp edges by the thesis engine,
+// with the B-rep volume to compare against. `extra` adds or overrides job keys.
+struct SharedModelRun {
+  double brep_volume = 0;
+  JobResult result;
+};
+SharedModelRun meshSharedModel(const std::string& fileName, const std::string& name, const json& extra) {
+  const std::string file = test::cadDir() + "/" + fileName;
+  const auto loaded = BrepSolid::loadFile(file, name, BrepSolid::Grouping::Separate);
+  EXPECT_EQ(loaded.solids.size(), 1u) << fileName;
+  json job = {{"inputs", {{{"name", name}, {"file", file}, {"material", 1}}}},
+              {"engine", "thesis"},
+              {"features", {{"sharp_angle_deg", 30}}},
+              {"element_order", 1},
+              {"seed", 0}};
+  job.update(extra);
+  return {test::volumeOf(loaded.solids.at(0)->shape()), runJob(JobSpec::fromJson(job, ""), RunControl())};
+}
+
 // U_Joint_2.stp has two parallel feature circles 25.4 mm apart (y = +-12.7, the ends of a
 // cylindrical face) whose samples pair up into four (nearly) coplanar, cocircular points. Their flat cell's circumcentre is
 // anywhere on the circle's axis: rounding put it 20 mm away, where T3.4 inserted a stray vertex
@@ -36,19 +55,11 @@ double flatness(const TetMesh& m, size_t t) {
 // itself stayed in the mesh (0.000000000000004 degrees after the snap). The engine now refines
 // a flat cell at its centroid, which always removes it.
 TEST(ThesisSharedModels, UJointFlatCellBetweenParallelEdgesIsRefined) {
-  const std::string file = test::cadDir() + "/U_Joint_2.stp";
-  const auto loaded = BrepSolid::loadFile(file, "UJoint", BrepSolid::Grouping::Separate);
-  ASSERT_EQ(loaded.solids.size(), 1u);
-  const double brepVolume = test::volumeOf(loaded.solids[0]->shape());
   // Default sizes and sharp edges, the engine's own mesh (no sliver perturbation, which does
   // not move feature vertices and so could not have opened the flat cell either).
-  const json job = {{"inputs", {{{"name", "UJoint"}, {"file", file}, {"material", 1}}}},
-                    {"engine", "thesis"},
-                    {"features", {{"sharp_angle_deg", 30}}},
-                    {"optimize", {{"perturb", false}}},
-                    {"element_order", 1},
-                    {"seed", 0}};
-  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const SharedModelRun run = meshSharedModel("U_Joint_2.stp", "UJoint", {{"optimize", {{"perturb", false}}}});
+  const double brepVolume = run.brep_volume;
+  const JobResult& r = run.result;
   const TetMesh& m = r.mesh;
 
   double flattest = std::numeric_limits<double>::infinity();
@@ -86,19 +97,11 @@ TEST(ThesisSharedModels, UJointFlatCellBetweenParallelEdgesIsRefined) {
 // subsegments encroached below twice the terminator length while they are Delaunay edges,
 // and facets there that fail only the facet angle are left.
 TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
-  const std::string file = test::cadDir() + "/part.step";
-  const auto loaded = BrepSolid::loadFile(file, "part", BrepSolid::Grouping::Separate);
-  ASSERT_EQ(loaded.solids.size(), 1u);
-  const double brepVolume = test::volumeOf(loaded.solids[0]->shape());
   // The sweep's sharp-tet4 case (default sizes, sliver removal on). The time limit is far
   // above today's few seconds; the cascade took 75 s here.
-  const json job = {{"inputs", {{{"name", "part"}, {"file", file}, {"material", 1}}}},
-                    {"engine", "thesis"},
-                    {"features", {{"sharp_angle_deg", 30}}},
-                    {"element_order", 1},
-                    {"limits", {{"time_limit", 60}}},
-                    {"seed", 0}};
-  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  const SharedModelRun run = meshSharedModel("part.step", "part", {{"limits", {{"time_limit", 60}}}});
+  const double brepVolume = run.brep_volume;
+  const JobResult& r = run.result;
   const TetMesh& m = r.mesh;
   const json& thesis = r.report.at("thesis");
   const json& quality = r.report.at("quality");

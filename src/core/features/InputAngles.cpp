@@ -9,6 +9,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Vertex.hxx>
+#include <utility>
 #include <gp_Cone.hxx>
 
 #include <algorithm>
@@ -83,6 +84,16 @@ bool onCompositeBoundary(const HierarchicalOracle& oracle, const Point3& p, int 
   return false;
 }
 
+// Adds the smallest angle found along B-rep edge `e` of `input` when it is under `limit`.
+void keepIfUnder(double limit, SmallInputAngle smallest, const char* kind, const std::string& input, int e,
+                 std::vector<SmallInputAngle>& out) {
+  if (smallest.angle_deg >= limit) return;
+  smallest.kind = kind;
+  smallest.input = input;
+  smallest.edge = e;
+  out.push_back(std::move(smallest));
+}
+
 void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
                     std::vector<SmallInputAngle>& out) {
   std::set<std::pair<int, int>> featureEdges;  // (entry, edge)
@@ -110,12 +121,7 @@ void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
         smallest.location = p;
       }
     }
-    if (smallest.angle_deg < limit) {
-      smallest.kind = "dihedral";
-      smallest.input = solid->name();
-      smallest.edge = e;
-      out.push_back(smallest);
-    }
+    keepIfUnder(limit, smallest, "dihedral", solid->name(), e, out);
   }
 }
 
@@ -380,12 +386,7 @@ void contactWedges(const HierarchicalOracle& oracle, const FeatureGraph& feature
         smallest.location = p;
       }
     }
-    if (smallest.angle_deg < limit) {
-      smallest.kind = "contact";
-      smallest.input = solid->name();
-      smallest.edge = e;
-      out.push_back(smallest);
-    }
+    keepIfUnder(limit, smallest, "contact", solid->name(), e, out);
   }
 }
 
