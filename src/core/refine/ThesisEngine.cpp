@@ -949,8 +949,15 @@ class RuleSetTRefiner {
       if (e.cell->info().stamp != e.stamp) continue;
       bool sizeFails = false;
       if (cellBadness(e.cell, &sizeFails) <= 0) continue;
-      const bool atCircumcentre = refinedAtCircumcentre(e.cell);
-      const Zone zone = examine(refinementPoint(e.cell, atCircumcentre), e.cell);
+      bool atCircumcentre = refinedAtCircumcentre(e.cell);
+      Zone zone = examine(refinementPoint(e.cell, atCircumcentre), e.cell);
+      // A flat cell whose circumcentre rounds onto one of its corners (presse_asm.step's screw:
+      // two samples each of the two circles of a 45-degree chamfer, a planar trapezoid on the
+      // cone) would be left: its centroid goes in instead.
+      if (zone.duplicate && atCircumcentre && flatness(e.cell) < kFlatCell) {
+        atCircumcentre = false;
+        zone = examine(barycentre(e.cell), e.cell);
+      }
       // Terminator: a cell that meets its size but not the radius-edge bound next to a small
       // input angle cannot be fixed by splitting the subsegments there (each split makes a
       // new bad cell); and no subsegment is split below the terminator length.
