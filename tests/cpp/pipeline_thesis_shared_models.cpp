@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <set>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "domain/BrepSolid.h"
@@ -117,10 +119,17 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const double meshed = test::volumePerMaterial(m).at(1);
   EXPECT_NEAR(meshed, brepVolume, 0.01 * brepVolume);
 
-  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now 6,275, 69 and 2.3.
+  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now 6,328, 61 and 0.27: CGAL's
+  // perturbation reached 2.3 degrees but flipped one constrained subsegment out of the mesh,
+  // so the pipeline keeps the mesh before it (the segments are the guarantee).
   EXPECT_LT(m.tets.size(), 7000u);
   EXPECT_LT(quality.at("min_dihedral_histogram_10deg").at(0).get<int>(), 150);
-  EXPECT_GT(quality.at("min_dihedral_deg").get<double>(), 2.0);
+  EXPECT_GT(quality.at("min_dihedral_deg").get<double>(), 0.2);
+  // Every constrained subsegment is an edge of the final mesh (after sliver removal too).
+  std::set<std::pair<int64_t, int64_t>> tetEdges;
+  for (const auto& t : m.tets)
+    for (const auto& e : test::kTetEdges) tetEdges.insert(std::minmax(t[e[0]], t[e[1]]));
+  for (const auto& e : m.feature_edges) EXPECT_TRUE(tetEdges.count(std::minmax(e[0], e[1]))) << e[0] << "-" << e[1];
   std::cout << "[figures] part.step thesis sharp tet4: " << m.tets.size() << " tets, min dihedral "
             << quality.at("min_dihedral_deg") << ", under 10 degrees "
             << quality.at("min_dihedral_histogram_10deg").at(0) << ", slivers rule S left "

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "Error.h"
 #include "cgal/Mesh3Engine.h"
@@ -305,6 +306,19 @@ BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveO
   const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[origin.entry].source.get());
   if (!solid) return {};
   return solid->projectOnEdge(p, origin.edge);
+}
+
+// Feature edges of `mesh` that are not edges of any of its tets (0 when every constrained
+// subsegment is a mesh edge).
+int64_t featureEdgesMissingFromTets(const TetMesh& mesh) {
+  std::unordered_set<uint64_t> tetEdges;
+  tetEdges.reserve(mesh.tets.size() * 7);
+  for (const auto& t : mesh.tets)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) tetEdges.insert(edgeKey(t[a], t[b]));
+  int64_t missing = 0;
+  for (const auto& e : mesh.feature_edges) missing += tetEdges.count(edgeKey(e[0], e[1])) == 0;
+  return missing;
 }
 
 // Whether moving vertex v to `target` would turn one of its (positively oriented) tets flat or
@@ -626,8 +640,23 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
       sliverRemoval.exude = false;
       sliverRemoval.sliver_bound = thesisSliverBound(job);
       Mesh3Statistics optimizeStats;
+      // CGAL's perturber keeps segment vertices fixed but, with no protecting balls in the
+      // rebuilt complex, may move a neighbour into a subsegment's diametral ball and flip the
+      // subsegment away (part.step with sharp edges: 1 of 621). Rule Set T's guarantee that
+      // every constrained segment is a chain of mesh edges wins over the angles: the mesh
+      // before perturbation is kept then.
+      TetMesh beforePerturbation = result.mesh;
       optimizeTetMeshWithCgal(result.mesh, oracle, sliverRemoval, control, &optimizeStats);
       for (const auto& [phase, sec] : optimizeStats.seconds) clock.seconds["thesis_" + phase] = sec;
+      const int64_t dropped = featureEdgesMissingFromTets(result.mesh) +
+                              std::max<int64_t>(0, static_cast<int64_t>(beforePerturbation.feature_edges.size()) -
+                                                       static_cast<int64_t>(result.mesh.feature_edges.size()));
+      if (dropped > 0) {
+        result.mesh = std::move(beforePerturbation);
+        warnings.push_back("CGAL's sliver perturbation took " + std::to_string(dropped) +
+                           " constrained subsegment(s) out of the mesh, so the mesh before it is kept (slivers rule S "
+                           "and P left stay: see report.thesis.slivers_left)");
+      }
       clock.finish("sliver_removal");
     }
     seedsOnBoundary = stats.initial_points;
