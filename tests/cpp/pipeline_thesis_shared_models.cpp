@@ -31,6 +31,14 @@ double flatness(const TetMesh& m, size_t t) {
   return 6 * std::abs(test::tetVolume(m, t)) / (shortest * shortest * shortest);
 }
 
+// No face shared by three tets, no open material boundary, no inverted tet.
+void expectConforming(const TetMesh& m) {
+  const test::Conformity c = test::conformity(m);
+  EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
+  EXPECT_EQ(c.open_boundary_edges, 0);
+  EXPECT_EQ(c.inverted, 0);
+}
+
 // A shared model's one solid, meshed at default sizes with sharp edges by the thesis engine,
 // with the B-rep volume to compare against. `extra` adds or overrides job keys.
 struct SharedModelRun {
@@ -75,10 +83,7 @@ TEST(ThesisSharedModels, UJointFlatCellBetweenParallelEdgesIsRefined) {
   EXPECT_EQ(check.at("subsegments_not_edges").get<int>(), 0);
   EXPECT_EQ(check.at("encroached_subsegments").get<int>(), 0);
   EXPECT_EQ(check.at("restricted_facets_off_boundary").get<int>(), 0);
-  const test::Conformity c = test::conformity(m);
-  EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
-  EXPECT_EQ(c.open_boundary_edges, 0);
-  EXPECT_EQ(c.inverted, 0);
+  expectConforming(m);
   // tet4 at the default facet distance (diagonal / 150): chords of the curved faces cost < 1 %.
   const double meshed = test::volumePerMaterial(m).at(1);
   EXPECT_NEAR(meshed, brepVolume, 0.01 * brepVolume);
@@ -112,10 +117,7 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const json& check = thesis.at("final_check");
   EXPECT_EQ(check.at("subsegments_not_edges").get<int>(), 0);
   EXPECT_EQ(check.at("restricted_facets_off_boundary").get<int>(), 0);
-  const test::Conformity c = test::conformity(m);
-  EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
-  EXPECT_EQ(c.open_boundary_edges, 0);
-  EXPECT_EQ(c.inverted, 0);
+  expectConforming(m);
   const double meshed = test::volumePerMaterial(m).at(1);
   EXPECT_NEAR(meshed, brepVolume, 0.01 * brepVolume);
 

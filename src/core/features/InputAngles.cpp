@@ -84,6 +84,14 @@ bool onCompositeBoundary(const HierarchicalOracle& oracle, const Point3& p, int 
   return false;
 }
 
+// The B-rep edges the feature curves come from, as (oracle entry, edge index).
+std::set<std::pair<int, int>> brepFeatureEdges(const FeatureGraph& features) {
+  std::set<std::pair<int, int>> edges;
+  for (const FeaturePolyline& pl : features.polylines)
+    if (pl.source >= 0 && pl.edge >= 0) edges.insert({pl.source, pl.edge});
+  return edges;
+}
+
 // Adds the smallest angle found along B-rep edge `e` of `input` when it is under `limit`.
 void keepIfUnder(double limit, SmallInputAngle smallest, const char* kind, const std::string& input, int e,
                  std::vector<SmallInputAngle>& out) {
@@ -96,9 +104,7 @@ void keepIfUnder(double limit, SmallInputAngle smallest, const char* kind, const
 
 void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
                     std::vector<SmallInputAngle>& out) {
-  std::set<std::pair<int, int>> featureEdges;  // (entry, edge)
-  for (const FeaturePolyline& pl : features.polylines)
-    if (pl.source >= 0 && pl.edge >= 0) featureEdges.insert({pl.source, pl.edge});
+  const std::set<std::pair<int, int>> featureEdges = brepFeatureEdges(features);
   for (const auto& [entry, e] : featureEdges) {
     const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
     if (!solid) continue;
@@ -332,9 +338,7 @@ void junctionAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
 // more runs of labels mean that other inputs take part, and the shortest run is the wedge.
 void contactWedges(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
                    std::vector<SmallInputAngle>& out) {
-  std::set<std::pair<int, int>> featureEdges;  // (entry, edge)
-  for (const FeaturePolyline& pl : features.polylines)
-    if (pl.source >= 0 && pl.edge >= 0) featureEdges.insert({pl.source, pl.edge});
+  const std::set<std::pair<int, int>> featureEdges = brepFeatureEdges(features);
   const auto& entries = oracle.entries();
   const double radius = 1e-4 * oracle.diagonal();
   constexpr int kProbes = 72, kSamples = 5;
