@@ -631,8 +631,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     // demo assembly lost 6 of 537); perturbation alone keeps them all and reached the same
     // minimum dihedral angle there.
     // Perturbation stops as soon as every cell clears its bound, so when rules S and P (the
-    // engine's own vertex moves) left none under that bound it would only scan the mesh; skipping it also skips rebuilding the
-    // Mesh_3 complex (implant_in_bone (a): 0.7 s of a 2.6 s job).
+    // engine's own vertex moves) left none under that bound it would only scan the mesh;
+    // skipping it also skips rebuilding the Mesh_3 complex (implant_in_bone (a): 0.7 s of a
+    // 2.6 s job).
     const bool slivers_left = stats.insertions.count("left_slivers") && stats.insertions.at("left_slivers") > 0;
     if (job.perturb && slivers_left) {
       control.report("sliver removal", 0);
