@@ -93,27 +93,37 @@ def test_worker_ends_when_its_caller_is_killed(tmp_path):
     import sys
     import time
     job = tmp_path / "job.json"
-    job.write_text(json.dumps(sphere_job(order=2, criteria={"default": {"cell_size": 0.4}})))
+    # About 1.2 million tets: 30 s or more of meshing, long enough to tell a worker that
+    # ended with its caller from one that finished its job.
+    job.write_text(json.dumps(sphere_job(order=2, criteria={"default": {"cell_size": 0.25}})))
     caller = subprocess.Popen(
         [sys.executable, "-c",
-         "import subprocess, sys, time\n"
+         "import os, subprocess, sys, time\n"
          "out = open(sys.argv[2], 'w')\n"
+         "env = dict(os.environ, ORACLEMESH_WORKER_PARENT=str(os.getpid()))\n"
          "w = subprocess.Popen([sys.executable, '-m', 'oraclemesh.worker', sys.argv[1], "
-         "sys.argv[3]], stdout=out)\n"
+         "sys.argv[3]], stdout=out, env=env)\n"
          "print(w.pid, flush=True)\n"
          "time.sleep(120)\n",
          str(job), str(tmp_path / "progress.txt"), str(tmp_path / "result.npz")],
         stdout=subprocess.PIPE, text=True, env=dict(os.environ))
     child = int(caller.stdout.readline())
-    time.sleep(1.0)  # the worker is meshing (the job takes about 25 s)
+    time.sleep(1.0)  # the worker is starting up or meshing
     caller.kill()
     caller.wait()
-    time.sleep(0.5)
-    try:
-        with open("/proc/%d/stat" % child) as f:
-            state = f.read().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        state = "gone"
+    # A worker still importing when its caller died ends as soon as it reaches prctl; on a
+    # loaded machine that can take seconds. Without the parent-death signal it would mesh on
+    # for 30 s or more, so 15 s of waiting still tells the two apart.
+    deadline = time.monotonic() + 15
+    while True:
+        try:
+            with open("/proc/%d/stat" % child) as f:
+                state = f.read().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            state = "gone"
+        if state in ("gone", "Z") or time.monotonic() > deadline:
+            break
+        time.sleep(0.1)
     if state not in ("gone", "Z"):
         os.kill(child, signal.SIGKILL)
     assert state in ("gone", "Z"), "the worker outlived its caller (state %s)" % state

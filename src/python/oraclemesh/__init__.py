@@ -128,6 +128,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None):
         package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
             [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+        env["ORACLEMESH_WORKER_PARENT"] = str(os.getpid())  # worker.PARENT_VARIABLE
         # The module is built for the system interpreter; inside FreeCAD sys.executable is
         # FreeCAD itself, so the interpreter is found from the running Python's prefix.
         python = os.path.join(sys.base_prefix, "bin", "python3")

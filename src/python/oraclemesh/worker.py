@@ -19,13 +19,19 @@ import numpy as np
 
 import oraclemesh
 
+# Environment variable through which the caller gives its pid (see die_with_parent).
+PARENT_VARIABLE = "ORACLEMESH_WORKER_PARENT"
 
 def die_with_parent():
     """Linux: end this process when the caller (FreeCAD) ends, so a killed or crashed caller
     leaves no meshing process behind."""
     try:
         libc = ctypes.CDLL(None, use_errno=True)
-        parent = os.getppid()
+        # The caller names itself: a caller killed while this process was still starting up
+        # (imports take a second or more on a loaded machine) has already handed it to a new
+        # parent, so the parent seen here would be the wrong one to compare with.
+        expected = os.environ.get(PARENT_VARIABLE, "")
+        parent = int(expected) if expected.isdigit() else os.getppid()
         libc.prctl(1, 9)  # PR_SET_PDEATHSIG, SIGKILL
         if os.getppid() != parent:  # the parent ended before prctl took effect
             os._exit(3)
