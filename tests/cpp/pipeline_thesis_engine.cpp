@@ -213,7 +213,8 @@ TEST(ThesisEngine, RecordedBoundaryEntriesAreOnThatInputsFaces) {
   EXPECT_GT(perInput["Plate"], 0);
   std::cout << "[figures] thesis demo: " << recorded << " of " << onSurface
             << " surface vertices on a recorded input's faces (worst " << worst << "), snap moved "
-            << r.report.at("boundary_snap").at("vertices_moved") << "\n";
+            << r.report.at("boundary_snap").at("vertices_moved") << ", CGAL fallback perturbation "
+            << (r.report.at("seconds").contains("sliver_removal") ? "ran" : "not needed") << "\n";
 }
 
 TEST(ThesisEngine, SameJobSameMeshAndFiguresAgainstMesh3) {
