@@ -83,6 +83,7 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
   const int64_t firstMidNode = static_cast<int64_t>(mesh.points.size());
   const bool hasDimensions = !mesh.vertex_dimension.empty();
   const bool hasCurves = !mesh.vertex_curve.empty();
+  const bool hasBoundaryEntries = !mesh.vertex_boundary_entry.empty();
   mesh.points.reserve(mesh.points.size() + edges.size());
   for (const EdgeKey& e : edges) {
     mesh.points.push_back(0.5 * (mesh.points[e[0]] + mesh.points[e[1]]));
@@ -90,6 +91,7 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
     if (hasDimensions)
       mesh.vertex_dimension.push_back(feature != curveOfFeatureEdge.end() ? 1 : boundaryEdges.count(e) ? 2 : 3);
     if (hasCurves) mesh.vertex_curve.push_back(feature != curveOfFeatureEdge.end() ? feature->second : -1);
+    if (hasBoundaryEntries) mesh.vertex_boundary_entry.push_back(-1);  // placed by the caller, on what it knows
   }
   mesh.vertex_weights.clear();  // a tet10 mesh is no longer a triangulation of its nodes
   mesh.tet_mid_nodes.resize(mesh.tets.size());

@@ -19,8 +19,8 @@ using MidNodePlacer = std::function<Point3(int64_t a, int64_t b, const Point3& s
 //  - mesh.tet_mid_nodes filled in that edge order;
 //  - vertex_dimension of a mid node: 1 on a feature edge, 2 on an edge of a boundary triangle
 //    (mesh.boundary, or extractBoundary(mesh) when mesh.boundary is empty), 3 otherwise;
-//    vertex_curve: the feature edge's curve id, else -1. Both arrays are only extended when
-//    the mesh has them (empty stays empty).
+//    vertex_curve: the feature edge's curve id, else -1; vertex_boundary_entry: -1. These
+//    arrays are only extended when the mesh has them (empty stays empty).
 // Safety: the placed position is kept only if every tet that has the edge stays valid, i.e.
 // its Jacobian determinant at the four corners and at the centroid is > 0 and at least 10%
 // of the straight-edged tet's (6 x volume), with the mid nodes placed so far. Otherwise the

@@ -27,6 +27,11 @@ struct TetMesh {
   // Feature curve id of each dimension-1 vertex (-1 for all others); lets later phases put
   // such vertices back onto their exact B-rep edge.
   std::vector<int> vertex_curve;
+  // Oracle entry on whose boundary a dimension-2 vertex lies exactly, as the engine that
+  // placed it knows (an oracle crossing point or a projection onto that entry), else -1;
+  // empty means unknown for every vertex. The boundary snap takes such vertices as on their
+  // face instead of projecting them again. Whoever moves a point must reset its entry.
+  std::vector<int> vertex_boundary_entry;
   // Weight (squared ball radius) of each vertex in the regular triangulation the mesh came
   // from; empty means all zero (a Delaunay mesh). Mesh_3's protecting balls and exudation
   // leave weights, and the sliver optimizers need them to rebuild that same triangulation.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -98,6 +99,7 @@ void requireConsistentIndices(const TetMesh& mesh) {
   requireLength(mesh.feature_edge_curves.size(), mesh.feature_edges.size(), "feature edge curve ids", true);
   requireLength(mesh.vertex_dimension.size(), n, "vertex dimensions", true);
   requireLength(mesh.vertex_curve.size(), n, "vertex curve ids", true);
+  requireLength(mesh.vertex_boundary_entry.size(), n, "vertex boundary entries", true);
   requireLength(mesh.vertex_weights.size(), n, "vertex weights", true);
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     for (int64_t v : mesh.tets[t]) requireIndex(v, n, "tet", t);
@@ -194,6 +196,20 @@ ConformityReport checkConformity(const TetMesh& mesh) {
   }
   report.unused_points = std::count(used.begin(), used.end(), 0);
   return report;
+}
+
+void carryBoundaryEntries(const TetMesh& from, TetMesh& to) {
+  requireConsistentIndices(from);
+  to.vertex_boundary_entry.clear();
+  if (from.vertex_boundary_entry.empty()) return;
+  std::map<Point3, int> entryAt;
+  for (size_t i = 0; i < from.points.size(); ++i)
+    if (from.vertex_boundary_entry[i] >= 0) entryAt.emplace(from.points[i], from.vertex_boundary_entry[i]);
+  to.vertex_boundary_entry.assign(to.points.size(), -1);
+  for (size_t i = 0; i < to.points.size(); ++i) {
+    auto it = entryAt.find(to.points[i]);
+    if (it != entryAt.end()) to.vertex_boundary_entry[i] = it->second;
+  }
 }
 
 }  // namespace oraclemesh

@@ -67,6 +67,9 @@ struct VertexInfo {
   int dimension = 3;  // 0 star/feature end, 1 on a constrained segment, 2 on the boundary, 3 interior
   int curve = -1;     // feature curve id of a dimension-1 vertex
   bool far = false;   // one of the bounding corners that keep every point inside the hull
+  // Oracle entry on whose boundary a dimension-2 vertex lies exactly (it was put at one of
+  // that entry's crossings or projections), -1 when not known; the snap skips such vertices.
+  int boundaryEntry = -1;
 };
 
 // What the dual Voronoi edge of a facet says about the boundary. Kept on both cells of the
@@ -76,6 +79,7 @@ struct FacetData {
   bool restricted = false;
   Point3 centre{};  // surface Delaunay ball centre: where the dual edge crosses the boundary
   int labelA = 0, labelB = 0;
+  int entry = -1;   // the oracle entry whose boundary that crossing is on
 };
 
 struct CellInfo {
@@ -434,6 +438,7 @@ class RuleSetTRefiner {
             data.centre = x.point;
             data.labelA = x.labelBefore;
             data.labelB = x.labelAfter;
+            data.entry = x.entry;
           }
         }
       }
@@ -587,12 +592,14 @@ class RuleSetTRefiner {
     return zone;
   }
 
-  VH commit(const Zone& zone, int dimension, int curve) {
+  // boundaryEntry: the oracle entry on whose boundary zone.point lies exactly, if known.
+  VH commit(const Zone& zone, int dimension, int curve, int boundaryEntry = -1) {
     // Queue entries of the cells about to be deleted must read as stale.
     for (CH c : zone.cells) c->info().stamp = 0;
     VH v = dt_.insert_in_hole(zone.point, zone.cells.begin(), zone.cells.end(), zone.boundaryFacet.first,
                               zone.boundaryFacet.second);
     setInfo(v, dimension, curve);
+    v->info().boundaryEntry = dimension == 2 ? boundaryEntry : -1;
     if (options_.max_vertices > 0 && static_cast<int64_t>(dt_.number_of_vertices()) > options_.max_vertices)
       throw LimitError("the thesis engine reached limits.max_vertices = " + std::to_string(options_.max_vertices) +
                        " vertices during refinement: coarsen cell_size / facet_size / facet_distance or raise the limit");
@@ -772,7 +779,7 @@ class RuleSetTRefiner {
     const double probe = 1e-4 * oracle_.diagonal();
     std::mt19937 random(options_.seed);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    std::vector<Point3> samples;
+    std::vector<CompositeCrossing> samples;
     for (const OracleEntry& entry : oracle_.entries()) {
       const double facetSize = entry.role == Role::Material ? options_.criteria.of(entry.material).facet_size
                                                             : options_.criteria.defaults.facet_size;
@@ -782,14 +789,14 @@ class RuleSetTRefiner {
         const Point3 at = s.point + (0.1 * facetSize) * shift;
         auto crossings = oracle_.crossings(at - probe * s.normal, at + probe * s.normal);
         if (crossings.empty()) crossings = oracle_.crossings(s.point - probe * s.normal, s.point + probe * s.normal);
-        if (!crossings.empty()) samples.push_back(crossings.front().point);
+        if (!crossings.empty()) samples.push_back(crossings.front());
       }
     }
     for (size_t k = samples.size(); k > 1; --k) std::swap(samples[k - 1], samples[random() % k]);
-    for (const Point3& p : samples) {
-      const Zone zone = examine(p, lastCell_);
+    for (const CompositeCrossing& sample : samples) {
+      const Zone zone = examine(sample.point, lastCell_);
       if (zone.duplicate || zone.encroached >= 0 || zone.insertionRadius < terminatorLength_) continue;
-      VH v = commit(zone, 2, -1);
+      VH v = commit(zone, 2, -1, sample.entry);
       lastCell_ = v->cell();
       ++seeds;
     }
@@ -871,7 +878,7 @@ class RuleSetTRefiner {
         leave("facet", "its ball centre is closer than the terminator length to a vertex", e.stamp, e.facet);
         continue;
       }
-      commit(zone, 2, -1);  // T2.2
+      commit(zone, 2, -1, e.cell->info().facets[e.facet].entry);  // T2.2
       ++stats_.insertions["T2.2"];
       return true;
     }
@@ -894,7 +901,8 @@ class RuleSetTRefiner {
   }
 
   // The surface Delaunay ball of a restricted facet of the conflict zone that contains p.
-  bool surfaceBallContaining(const Zone& zone, Point3& centre) const {
+  // entry (if given): the oracle entry whose boundary the centre is on.
+  bool surfaceBallContaining(const Zone& zone, Point3& centre, int* entry = nullptr) const {
     for (CH c : zone.cells)
       for (int i = 0; i < 4; ++i) {
         const FacetData& f = c->info().facets[i];
@@ -903,6 +911,7 @@ class RuleSetTRefiner {
         const double r2 = CGAL::squared_distance(ballCentre, c->vertex((i + 1) & 3)->point());
         if (CGAL::squared_distance(zone.point, ballCentre) < r2) {
           centre = f.centre;
+          if (entry) *entry = f.entry;
           return true;
         }
       }
@@ -984,9 +993,10 @@ class RuleSetTRefiner {
         continue;
       }
       Point3 ballCentre;
+      int ballEntry = -1;
       // A flat cell with a stray circumcentre: its facets have dual edges from that point, so their
       // surface balls say nothing about the boundary: its centroid goes in directly.
-      if (atCircumcentre && surfaceBallContaining(zone, ballCentre)) {
+      if (atCircumcentre && surfaceBallContaining(zone, ballCentre, &ballEntry)) {
         const Zone surface = examine(ballCentre, e.cell);
         if (!surface.duplicate && surface.encroached >= 0) {  // T3.2
           if (refuseSplit(surface.encroached, "T3.2")) continue;
@@ -995,7 +1005,7 @@ class RuleSetTRefiner {
           continue;
         }
         if (!surface.duplicate && surface.insertionRadius >= terminatorLength_) {  // T3.3
-          commit(surface, 2, -1);
+          commit(surface, 2, -1, ballEntry);
           ++stats_.insertions["T3.3"];
           return requeue(cellQueue_, e);
         }
@@ -1231,7 +1241,7 @@ class RuleSetTRefiner {
         leaveTriangle("its circumcentre is closer than the terminator length to a vertex");
         continue;
       }
-      commit(exact, 2, -1);  // TP.2
+      commit(exact, 2, -1, options_.planar_faces[t.face].entry);  // TP.2
       ++stats_.insertions["TP.2"];
       ++stats_.planar.insertions;
       return true;
@@ -1377,7 +1387,8 @@ class RuleSetTRefiner {
       return false;
     }
     Point3 ballCentre;
-    if (surfaceBallContaining(zone, ballCentre)) {
+    int ballEntry = -1;
+    if (surfaceBallContaining(zone, ballCentre, &ballEntry)) {
       const Zone surface = examine(ballCentre, c);
       if (!surface.duplicate && surface.encroached >= 0) {
         if (sliverRefusesSplit(surface.encroached, stamp, "S.2")) return false;
@@ -1387,7 +1398,7 @@ class RuleSetTRefiner {
         // Only a ball centre whose new cells are better and meet T3's criteria: unlike T3.3,
         // S.3 is not needed for the guarantees, and under a strict radius-edge bound (1.1 on
         // implant_in_bone) a surface point that T3 must repair starts a cascade (3x the tets).
-        commit(surface, 2, -1);
+        commit(surface, 2, -1, ballEntry);
         ++stats_.insertions["S.3"];
         return true;
       }
@@ -1717,8 +1728,9 @@ class RuleSetTRefiner {
     for (const VertexMove& m : screenedMoves(c, random, effort)) {
       if (tries == kPerturbMoves) break;
       Point3 target = m.target;
+      int targetEntry = -1;
       if (m.vertex->info().dimension == 2) {
-        const BoundaryProjection onBoundary = oracle_.projectOnBoundary(target);
+        const BoundaryProjection onBoundary = oracle_.projectOnBoundary(target, &targetEntry);
         if (!std::isfinite(onBoundary.distance)) continue;
         target = onBoundary.point;
         std::vector<CH> star;
@@ -1727,6 +1739,8 @@ class RuleSetTRefiner {
       }
       ++tries;
       if (tryVertexMove(m.vertex, target, made)) {
+        // An undone move leaves v where it was, with the entry it had.
+        m.vertex->info().boundaryEntry = targetEntry;
         ++stats_.insertions["P"];
         return true;
       }
@@ -1844,6 +1858,7 @@ class RuleSetTRefiner {
         mesh.points.push_back(toPoint3(v->point()));
         mesh.vertex_dimension.push_back(v->info().dimension);
         mesh.vertex_curve.push_back(v->info().dimension == 1 ? v->info().curve : -1);
+        mesh.vertex_boundary_entry.push_back(v->info().dimension == 2 ? v->info().boundaryEntry : -1);
       }
       return it->second;
     };
