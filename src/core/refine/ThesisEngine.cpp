@@ -575,9 +575,12 @@ class RuleSetTRefiner {
         VH va = c->vertex(a);
         if (dt_.is_infinite(va)) continue;
         nearest = std::min(nearest, CGAL::squared_distance(zone.point, va->point()));
+        // Only an edge between two segment vertices can be a subsegment: the check spares
+        // most conflict cells the hash lookups (a few % of the whole implant job).
+        if (segmentsAt_[va->info().id].empty()) continue;
         for (int b = a + 1; b < 4; ++b) {
           VH vb = c->vertex(b);
-          if (dt_.is_infinite(vb)) continue;
+          if (dt_.is_infinite(vb) || segmentsAt_[vb->info().id].empty()) continue;
           auto it = segmentOf_.find(pairKey(va->info().id, vb->info().id));
           if (it == segmentOf_.end()) continue;
           const int s = it->second;
@@ -1821,57 +1824,58 @@ class RuleSetTRefiner {
   // runs; the mesh (and the optimizers and snap that follow, which depend on its order) must
   // not. Then cells are sorted by their corners' vertex ids, each cell starting at its
   // smallest id with its orientation kept.
-  std::vector<std::array<VH, 4>> labelledCellsInOutputOrder() const {
-    std::vector<std::array<VH, 4>> cells;
+  struct LabelledCell {
+    std::array<VH, 4> corners;
+    int label;
+  };
+
+  std::vector<LabelledCell> labelledCellsInOutputOrder() const {
+    std::vector<LabelledCell> cells;
     for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c)
-      if (c->info().label > 0) cells.push_back({c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)});
+      if (c->info().label > 0) cells.push_back({{c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)}, c->info().label});
     if (stats_.insertions.count("P") == 0) return cells;
     auto id = [](VH v) { return v->info().id; };
-    for (std::array<VH, 4>& corners : cells) {
+    for (LabelledCell& cell : cells) {
+      std::array<VH, 4>& corners = cell.corners;
       int parity = 0;  // bubble sort by id; each swap flips the orientation
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j + 1 < 4 - i; ++j)
           if (id(corners[j]) > id(corners[j + 1])) std::swap(corners[j], corners[j + 1]), parity ^= 1;
       if (parity) std::swap(corners[2], corners[3]);
     }
-    std::sort(cells.begin(), cells.end(), [&](const auto& x, const auto& y) {
+    std::sort(cells.begin(), cells.end(), [&](const LabelledCell& x, const LabelledCell& y) {
       for (int k = 0; k < 4; ++k)
-        if (id(x[k]) != id(y[k])) return id(x[k]) < id(y[k]);
+        if (id(x.corners[k]) != id(y.corners[k])) return id(x.corners[k]) < id(y.corners[k]);
       return false;
     });
     return cells;
   }
 
-  CH cellOf(const std::array<VH, 4>& corners) const {
-    CH c;
-    int i, j, k, l;
-    dt_.is_cell(corners[0], corners[1], corners[2], corners[3], c, i, j, k, l);
-    return c;
-  }
-
   TetMesh extract() const {
     TetMesh mesh;
-    std::unordered_map<int64_t, int64_t> index;  // vertex id -> mesh index
+    // Vertex ids count from 0 without gaps, so the mesh index of each is a plain lookup.
+    std::vector<int64_t> index(static_cast<size_t>(nextVertexId_), -1);
     auto indexOf = [&](VH v) {
-      auto [it, added] = index.emplace(v->info().id, static_cast<int64_t>(mesh.points.size()));
-      if (added) {
+      int64_t& at = index[static_cast<size_t>(v->info().id)];
+      if (at < 0) {
+        at = static_cast<int64_t>(mesh.points.size());
         mesh.points.push_back(toPoint3(v->point()));
         mesh.vertex_dimension.push_back(v->info().dimension);
         mesh.vertex_curve.push_back(v->info().dimension == 1 ? v->info().curve : -1);
         mesh.vertex_boundary_entry.push_back(v->info().dimension == 2 ? v->info().boundaryEntry : -1);
       }
-      return it->second;
+      return at;
     };
-    for (const std::array<VH, 4>& corners : labelledCellsInOutputOrder()) {
-      const CH c = cellOf(corners);
+    for (const LabelledCell& cell : labelledCellsInOutputOrder()) {
+      const std::array<VH, 4>& corners = cell.corners;
       mesh.tets.push_back({indexOf(corners[0]), indexOf(corners[1]), indexOf(corners[2]), indexOf(corners[3])});
-      mesh.tet_materials.push_back(c->info().label);
+      mesh.tet_materials.push_back(cell.label);
     }
     for (const Subsegment& s : segments_) {
       if (!s.alive) continue;
-      auto ia = index.find(s.a->info().id), ib = index.find(s.b->info().id);
-      if (ia == index.end() || ib == index.end()) continue;  // a constraint outside every material
-      mesh.feature_edges.push_back({ia->second, ib->second});
+      const int64_t ia = index[static_cast<size_t>(s.a->info().id)], ib = index[static_cast<size_t>(s.b->info().id)];
+      if (ia < 0 || ib < 0) continue;  // a constraint outside every material
+      mesh.feature_edges.push_back({ia, ib});
       mesh.feature_edge_curves.push_back(s.curve);
     }
     return mesh;
