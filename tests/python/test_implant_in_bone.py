@@ -116,3 +116,49 @@ def test_table_mesh3_rows_run_and_parse(example, tmp_path):
         assert r["label"] in run.stdout
     assert rows["c"]["sharp_edges_by_feature_edges_pct"] == 0  # featureless: no feature edges
     assert rows["d"]["sharp_edges_by_feature_edges_pct"] > 95  # protecting balls keep the edges
+
+
+def smallest_dihedral_deg(points, tets):
+    """Smallest dihedral angle per tetrahedron, in degrees, from the face normals."""
+    p = points[tets[:, :4]]
+    faces = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))  # outward normals for positive tets
+    normals = [np.cross(p[:, f[1]] - p[:, f[0]], p[:, f[2]] - p[:, f[0]]) for f in faces]
+    normals = [n / np.linalg.norm(n, axis=1)[:, None] for n in normals]
+    cosines = [-np.einsum("ij,ij->i", normals[i], normals[j]) for i in range(4) for j in range(i + 1, 4)]
+    return np.degrees(np.arccos(np.clip(np.max(cosines, axis=0), -1, 1)))
+
+
+def test_thesis_rule_p_leaves_no_sliver_so_cgal_perturbation_is_skipped(example):
+    """Row (a) of the table at the thesis sizes: rules S and P of the thesis engine lift every
+    cell over the sliver target (optimize.sliver_bound + 5 degrees), so the pipeline skips
+    CGAL's fallback perturbation and its complex rebuild; rule P's moves keep every
+    constrained subsegment a mesh edge."""
+    folder, _ = example
+    import run_table
+    with open(os.path.join(EXAMPLE, "implant_in_bone.json")) as f:
+        job = run_table.job_for(json.load(f), "thesis", True, 1.0)
+    try:
+        result = oraclemesh.run(job, base_directory=folder)
+    except oraclemesh.Error as e:
+        if run_table.engine_unavailable(str(e), "thesis"):
+            pytest.skip(str(e))
+        raise
+    thesis = result.report["thesis"]
+    assert thesis["slivers_left"] == [], thesis["slivers_left"][:3]
+    assert thesis["rule_insertions"]["P"] > 0
+    assert "thesis_perturb" not in result.report["seconds"], "CGAL's fallback perturbation ran"
+    assert "thesis_rebuild_complex" not in result.report["seconds"]
+    # The engine's mesh before the boundary snap, measured from its tets.
+    target = job["optimize"].get("sliver_bound", 10) + 5  # the job's bound (default 10) + the margin
+    engine_min = result.report["boundary_snap"]["min_dihedral_before_deg"]
+    assert engine_min >= target - 1e-6
+    final = smallest_dihedral_deg(result.points, result.tets)
+    assert final.min() >= 12
+    assert thesis["final_check"]["subsegments_not_edges"] == 0
+    assert thesis["final_check"]["encroached_subsegments"] == 0
+    edges = set()
+    for a, b in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        edges.update(map(tuple, np.sort(result.tets[:, [a, b]], axis=1).tolist()))
+    features = np.sort(np.asarray(result.feature_edges)[:, :2], axis=1)
+    assert len(features) >= thesis["constrained_subsegments"]
+    assert all(tuple(e) in edges for e in features.tolist())
