@@ -1445,6 +1445,8 @@ class RuleSetTRefiner {
   static constexpr int kPerturbPlainRounds = 6;  // then the slivers left get more effort
   static constexpr int kPerturbMaxEffort = 16;    // x kPerturbCandidates targets per corner
   static constexpr int kPerturbMaxTries = 12;     // moves tried per sliver and round at most
+  static constexpr int kPerturbIdleWidest = 3;    // rounds at kPerturbMaxEffort that move nothing
+  static constexpr double kIntoCircumsphere = 0.9; // x radius: where a neighbour's vertex goes
   static constexpr int kPerturbCandidates = 10;  // targets screened per corner
   static constexpr int kPerturbMoves = 3;        // moves tried per sliver and round (x effort)
   static constexpr double kPerturbMaxStep = 0.4; // x the sliver's shortest edge
@@ -1559,6 +1561,7 @@ class RuleSetTRefiner {
         do tilt = {unit(random), unit(random), unit(random)};
         while (dot(tilt, tilt) > 1);
         const double step = kPerturbMaxStep * scale * (j + 1) / candidates;
+        if (step < terminatorLength_) continue;  // refused by the move (cellsChangedByMove)
         Point3 direction = onSurface ? 0.3 * away + tilt : away + 0.7 * tilt;
         if (onSurface) direction = direction - dot(direction, normal) * normal;
         if (!(norm(direction) > 0)) continue;
@@ -1577,8 +1580,37 @@ class RuleSetTRefiner {
     }
     // Scores rose along each list: the best kept move first, flipping ones last.
     moves.assign(kept.rbegin(), kept.rend());
+    if (effort >= kPerturbMaxEffort) intoCircumsphereMoves(c, scale, moves);
     moves.insert(moves.end(), flipping.rbegin(), flipping.rend());
     return moves;
+  }
+
+  // Last resort for a sliver its own corners cannot lift: the movable vertex of a neighbour
+  // (across one of its facets) moved just inside the sliver's circumsphere, which deletes
+  // the sliver. Slivers' neighbours are about cospherical with them, so the step is short;
+  // the move's cells are unknown before it is made (score 0: tryVertexMove judges it).
+  void intoCircumsphereMoves(CH c, double scale, std::vector<VertexMove>& moves) const {
+    std::array<VH, 4> corners{c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+    std::sort(corners.begin(), corners.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+    const Point3 centre = toPoint3(CGAL::circumcenter(corners[0]->point(), corners[1]->point(), corners[2]->point(),
+                                                      corners[3]->point()));
+    const double radius = distance(centre, toPoint3(corners[0]->point()));
+    std::vector<VH> across;
+    for (int i = 0; i < 4; ++i) {
+      const CH n = c->neighbor(i);
+      const VH w = n->vertex(n->index(c));
+      if (movable(w)) across.push_back(w);
+    }
+    std::sort(across.begin(), across.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+    for (VH w : across) {
+      const Point3 p = toPoint3(w->point());
+      const double out = distance(p, centre);
+      const double step = out - kIntoCircumsphere * radius;
+      if (!(out > 0) || step > kPerturbMaxStep * scale || step < terminatorLength_) continue;
+      std::vector<CH> star;
+      dt_.incident_cells(w, std::back_inserter(star));
+      moves.push_back({w, p + (step / out) * (centre - p), starMinWithVertexAt(w, star, w->point(), -1), 0});
+    }
   }
 
   // Whether the cells of v (`star`) stay a Delaunay triangulation with v moved to p: no
@@ -1772,8 +1804,11 @@ class RuleSetTRefiner {
         target = onBoundary.point;
         std::vector<CH> star;
         dt_.incident_cells(m.vertex, std::back_inserter(star));
-        if (starMinWithVertexAt(m.vertex, star, toCgal(target), m.before) <= m.before) continue;
+        if (m.score > 0 && starMinWithVertexAt(m.vertex, star, toCgal(target), m.before) <= m.before) continue;
       }
+      // A step under the terminator length is refused by the move (see cellsChangedByMove):
+      // no try is spent on it.
+      if (distance(target, toPoint3(m.vertex->point())) < terminatorLength_) continue;
       ++tries;
       if (tryVertexMove(m.vertex, target, made)) {
         ++stats_.insertions["P"];
@@ -1798,7 +1833,7 @@ class RuleSetTRefiner {
     // cells the moves made.
     std::vector<TrackedCell> slivers;
     for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) trackIfSliver(c, slivers);
-    int effort = 1;
+    int effort = 1, idleWidest = 0;
     for (int round = 0; round < kPerturbRounds && !slivers.empty(); ++round) {
       std::sort(slivers.begin(), slivers.end(), [](const TrackedCell& x, const TrackedCell& y) {
         return x.angle != y.angle ? x.angle < y.angle : x.stamp < y.stamp;
@@ -1827,8 +1862,8 @@ class RuleSetTRefiner {
         if (s.cell->info().stamp == s.stamp) next.push_back(s);
       }
       if (moved == 0) {
-        if (effort >= kPerturbMaxEffort) return;
-        effort *= 4;
+        if (effort >= kPerturbMaxEffort && ++idleWidest == kPerturbIdleWidest) return;
+        effort = std::min(4 * effort, kPerturbMaxEffort);
       }
       for (const auto& [stamp, c] : made)
         if (c->info().stamp == stamp) trackIfSliver(c, next);
