@@ -25,6 +25,7 @@
 #include "Error.h"
 #include "demo_assembly_job.h"
 #include "job/Pipeline.h"
+#include "mesh/Quality.h"
 #include "mesh_checks.h"
 #include "occt_checks.h"
 #include "small_angle_shapes.h"
@@ -322,6 +323,39 @@ TEST(ThesisEngine, SliverRemovalReachesTwelveDegreesKeepingSegments) {
   std::cout << "[figures] thesis demo sliver removal: min dihedral " << before << " -> " << after << " deg, tets "
             << raw.mesh.tets.size() << " -> " << optimized.mesh.tets.size() << ", rule S "
             << thesis.at("rule_insertions").dump() << ", seconds " << optimized.report["seconds"].dump() << "\n";
+}
+
+// Rule P (vertex moves on the engine's own triangulation) lifts every cell of the demo over
+// the engine's sliver target (the job's sliver bound, default 10, + 5 degrees), so the
+// pipeline skips CGAL's fallback perturbation and the complex rebuild it needs (before the
+// Delaunay-first screen, rule P left 3 slivers here and the fallback ran).
+TEST(ThesisEngine, RulePLeavesNoSliverOnTheDemoSoCgalPerturbationIsSkipped) {
+  const JobResult& r = thesisDemo(1, true);
+  const json& thesis = r.report.at("thesis");
+  EXPECT_TRUE(thesis.at("slivers_left").empty()) << thesis.at("slivers_left").dump();
+  EXPECT_EQ(thesis.at("rule_insertions").value("left_slivers", -1), 0);
+  EXPECT_GT(thesis.at("rule_insertions").value("P", 0), 0);
+  const json& seconds = r.report.at("seconds");
+  EXPECT_FALSE(seconds.contains("thesis_rebuild_complex")) << seconds.dump();
+  EXPECT_FALSE(seconds.contains("sliver_removal")) << seconds.dump();
+  // Measured from the final tets: the snap keeps segment vertices on the pin's circles, so
+  // the engine's target holds on the final mesh too.
+  const double target = JobSpec().sliver_bound + 5;
+  double smallest = 180;
+  for (const auto& t : r.mesh.tets) {
+    const auto angles = dihedralAngles(r.mesh.points[t[0]], r.mesh.points[t[1]], r.mesh.points[t[2]], r.mesh.points[t[3]]);
+    smallest = std::min(smallest, *std::min_element(angles.begin(), angles.end()));
+  }
+  EXPECT_GE(smallest, target);
+  EXPECT_GE(r.report.at("boundary_snap").at("min_dihedral_before_deg").get<double>(), target);
+  // The moves keep Rule Set T's guarantees: every constrained subsegment an unencroached
+  // mesh edge, every restricted facet on boundary vertices.
+  EXPECT_EQ(thesis.at("final_check").at("subsegments_not_edges"), 0);
+  EXPECT_EQ(thesis.at("final_check").at("encroached_subsegments"), 0);
+  EXPECT_EQ(thesis.at("final_check").at("restricted_facets_off_boundary"), 0);
+  const auto edges = meshEdges(r.mesh);
+  ASSERT_GE(static_cast<int64_t>(r.mesh.feature_edges.size()), thesis.at("constrained_subsegments").get<int64_t>());
+  for (const auto& e : r.mesh.feature_edges) EXPECT_TRUE(edges.count(std::minmax(e[0], e[1]))) << e[0] << "-" << e[1];
 }
 
 TEST(ThesisEngine, SmallAnglesTerminateWithinLimits) {

@@ -116,3 +116,4 @@ def test_table_mesh3_rows_run_and_parse(example, tmp_path):
         assert r["label"] in run.stdout
     assert rows["c"]["sharp_edges_by_feature_edges_pct"] == 0  # featureless: no feature edges
     assert rows["d"]["sharp_edges_by_feature_edges_pct"] > 95  # protecting balls keep the edges
+

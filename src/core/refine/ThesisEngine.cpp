@@ -1455,9 +1455,14 @@ class RuleSetTRefiner {
   // labels is a restricted facet on boundary vertices that meets the facet criteria. CGAL's
   // perturbation still runs on whatever is left (Pipeline). Candidate targets are screened
   // cheaply first: the corner's cells with the corner moved, before any Delaunay update.
-  static constexpr int kPerturbRounds = 12;
+  static constexpr int kPerturbRounds = 24;
+  static constexpr int kPerturbPlainRounds = 6;  // then the slivers left get more effort
+  static constexpr int kPerturbMaxEffort = 16;    // x kPerturbCandidates targets per corner
+  static constexpr int kPerturbMaxTries = 12;     // moves tried per sliver and round at most
+  static constexpr int kPerturbIdleWidest = 3;    // rounds at kPerturbMaxEffort that move nothing
+  static constexpr double kIntoCircumsphere = 0.9; // x radius: where a neighbour's vertex goes
   static constexpr int kPerturbCandidates = 10;  // targets screened per corner
-  static constexpr int kPerturbMoves = 3;        // moves tried per sliver and round
+  static constexpr int kPerturbMoves = 3;        // moves tried per sliver and round (x effort)
   static constexpr double kPerturbMaxStep = 0.4; // x the sliver's shortest edge
 
   struct VertexMove {
@@ -1529,7 +1534,10 @@ class RuleSetTRefiner {
   // Screened moves of sliver c's movable corners, best first: away from the opposite face
   // (the sliver's volume grows) with a seeded random tilt, steps up to kPerturbMaxStep x its
   // shortest edge. A candidate is kept only when it beats every earlier one of the sliver
-  // (branch and bound: the first cell no better ends its screening).
+  // (branch and bound: the first cell no better ends its screening). Moves after which the
+  // corner's cells stay Delaunay come first: the screen then predicts the move's outcome,
+  // while a move that flips cells often ends worse than it screened (implant_in_bone (a):
+  // the last slivers' largest steps screened at 20-25 degrees and made cells of 7-10).
   std::vector<VertexMove> screenedMoves(CH c, std::mt19937& random, int effort) const {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const double scale = shortestEdge(c);
@@ -1538,7 +1546,10 @@ class RuleSetTRefiner {
     std::array<int, 4> corners{0, 1, 2, 3};
     std::sort(corners.begin(), corners.end(),
               [&](int x, int y) { return c->vertex(x)->info().id < c->vertex(y)->info().id; });
-    double best = -1;
+    // Two lists: moves whose star stays Delaunay (the move then makes exactly the screened
+    // cells) and the others (the triangulation flips, so the move may end worse).
+    std::vector<VertexMove> kept, flipping;
+    double best = -1, bestFlipping = -1;
     for (int k : corners) {
       const VH v = c->vertex(k);
       if (!movable(v)) continue;
@@ -1564,6 +1575,7 @@ class RuleSetTRefiner {
         do tilt = {unit(random), unit(random), unit(random)};
         while (dot(tilt, tilt) > 1);
         const double step = kPerturbMaxStep * scale * (j + 1) / candidates;
+        if (step < terminatorLength_) continue;  // refused by the move (cellsChangedByMove)
         Point3 direction = onSurface ? 0.3 * away + tilt : away + 0.7 * tilt;
         if (onSurface) direction = direction - dot(direction, normal) * normal;
         if (!(norm(direction) > 0)) continue;
@@ -1571,30 +1583,97 @@ class RuleSetTRefiner {
         const double floor = std::max(before, best);
         const double score = starMinWithVertexAt(v, star, toCgal(target), floor);
         if (score <= floor) continue;
-        best = score;
-        moves.push_back({v, target, before, score});
+        if (starStaysDelaunay(v, star, toCgal(target))) {
+          best = score;
+          kept.push_back({v, target, before, score});
+        } else if (score > bestFlipping) {
+          bestFlipping = score;
+          flipping.push_back({v, target, before, score});
+        }
       }
     }
-    std::reverse(moves.begin(), moves.end());  // scores rose along the list
+    // Scores rose along each list: the best kept move first, flipping ones last.
+    moves.assign(kept.rbegin(), kept.rend());
+    if (effort >= kPerturbMaxEffort) intoCircumsphereMoves(c, scale, moves);
+    moves.insert(moves.end(), flipping.rbegin(), flipping.rend());
     return moves;
   }
 
+  // Last resort for a sliver its own corners cannot lift: the movable vertex of a neighbour
+  // (across one of its facets) moved just inside the sliver's circumsphere, which deletes
+  // the sliver. Slivers' neighbours are about cospherical with them, so the step is short;
+  // the move's cells are unknown before it is made (score 0: tryVertexMove judges it).
+  void intoCircumsphereMoves(CH c, double scale, std::vector<VertexMove>& moves) const {
+    std::array<VH, 4> corners{c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+    std::sort(corners.begin(), corners.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+    const Point3 centre = toPoint3(CGAL::circumcenter(corners[0]->point(), corners[1]->point(), corners[2]->point(),
+                                                      corners[3]->point()));
+    const double radius = distance(centre, toPoint3(corners[0]->point()));
+    std::vector<VH> across;
+    for (int i = 0; i < 4; ++i) {
+      const CH n = c->neighbor(i);
+      const VH w = n->vertex(n->index(c));
+      if (movable(w)) across.push_back(w);
+    }
+    std::sort(across.begin(), across.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+    for (VH w : across) {
+      const Point3 p = toPoint3(w->point());
+      const double out = distance(p, centre);
+      const double step = out - kIntoCircumsphere * radius;
+      if (!(out > 0) || step > kPerturbMaxStep * scale || step < terminatorLength_) continue;
+      std::vector<CH> star;
+      dt_.incident_cells(w, std::back_inserter(star));
+      moves.push_back({w, p + (step / out) * (centre - p), starMinWithVertexAt(w, star, w->point(), -1), 0});
+    }
+  }
+
+  // Whether the cells of v (`star`) stay a Delaunay triangulation with v moved to p: no
+  // vertex across one of their facets lies inside or on the circumsphere of the moved cell.
+  // Then moving v makes exactly these cells and the screened score is the move's outcome.
+  bool starStaysDelaunay(VH v, const std::vector<CH>& star, const CgalPoint& p) const {
+    for (CH c : star) {
+      if (dt_.is_infinite(c)) return false;
+      std::array<CgalPoint, 4> q;
+      for (int k = 0; k < 4; ++k) q[k] = c->vertex(k) == v ? p : c->vertex(k)->point();
+      for (int i = 0; i < 4; ++i) {
+        const CH n = c->neighbor(i);
+        const VH across = n->vertex(n->index(c));
+        if (dt_.is_infinite(across)) continue;
+        if (CGAL::side_of_oriented_sphere(q[0], q[1], q[2], q[3], across->point()) != CGAL::ON_NEGATIVE_SIDE)
+          return false;
+      }
+    }
+    return true;
+  }
+
   // Unit normal of the boundary at surface vertex v: the mean of the normals of the restricted
-  // facets at v (their sides made to agree with the first); zero when v has none.
+  // facets at v (their sides made to agree with the first); zero when v has none. Facets and
+  // their corners go by vertex id: the star's order and the cells' corner order depend on
+  // memory layout once vertices have moved, and the rounding must not.
   Point3 surfaceNormalAt(VH v, const std::vector<CH>& star) const {
-    Point3 sum{0, 0, 0};
+    std::vector<std::array<VH, 3>> facets;
     for (CH c : star) {
       const int at = c->index(v);
       for (int i = 0; i < 4; ++i) {
         if (i == at || !c->info().facets[i].restricted) continue;
-        const Point3 a = toPoint3(c->vertex((i + 1) & 3)->point()), b = toPoint3(c->vertex((i + 2) & 3)->point()),
-                     d = toPoint3(c->vertex((i + 3) & 3)->point());
-        Point3 n = cross(b - a, d - a);
-        const double len = norm(n);
-        if (!(len > 0)) continue;
-        n = (dot(n, sum) < 0 ? -1.0 : 1.0) / len * n;
-        sum = sum + n;
+        std::array<VH, 3> f{c->vertex((i + 1) & 3), c->vertex((i + 2) & 3), c->vertex((i + 3) & 3)};
+        std::sort(f.begin(), f.end(), [](VH x, VH y) { return x->info().id < y->info().id; });
+        facets.push_back(f);
       }
+    }
+    const auto ids = [](const std::array<VH, 3>& f) {
+      return std::array<int64_t, 3>{f[0]->info().id, f[1]->info().id, f[2]->info().id};
+    };
+    std::sort(facets.begin(), facets.end(), [&](const auto& x, const auto& y) { return ids(x) < ids(y); });
+    facets.erase(std::unique(facets.begin(), facets.end()), facets.end());  // seen from both sides
+    Point3 sum{0, 0, 0};
+    for (const auto& f : facets) {
+      const Point3 a = toPoint3(f[0]->point()), b = toPoint3(f[1]->point()), d = toPoint3(f[2]->point());
+      Point3 n = cross(b - a, d - a);
+      const double len = norm(n);
+      if (!(len > 0)) continue;
+      n = (dot(n, sum) < 0 ? -1.0 : 1.0) / len * n;
+      sum = sum + n;
     }
     const double len = norm(sum);
     return len > 0 ? (1.0 / len) * sum : Point3{0, 0, 0};
@@ -1724,12 +1803,14 @@ class RuleSetTRefiner {
     return false;
   }
 
-  // One try of rule P on sliver c; true when a corner moved. c may be gone afterwards
-  // either way: the cells made in its place are added to `made`.
+  // One try of rule P on sliver c (up to kPerturbMoves x effort moves, so the few slivers of
+  // the late rounds also reach the screen's lesser candidates, which a corner's guarantees
+  // may need); true when a corner moved. c may be gone afterwards either way: the cells made
+  // in its place are added to `made`.
   bool perturbSliver(CH c, std::mt19937& random, int effort, std::vector<CH>& made) {
     int tries = 0;
     for (const VertexMove& m : screenedMoves(c, random, effort)) {
-      if (tries == kPerturbMoves) break;
+      if (tries == std::min(kPerturbMoves * effort, kPerturbMaxTries)) break;
       Point3 target = m.target;
       int targetEntry = -1;
       if (m.vertex->info().dimension == 2) {
@@ -1738,8 +1819,11 @@ class RuleSetTRefiner {
         target = onBoundary.point;
         std::vector<CH> star;
         dt_.incident_cells(m.vertex, std::back_inserter(star));
-        if (starMinWithVertexAt(m.vertex, star, toCgal(target), m.before) <= m.before) continue;
+        if (m.score > 0 && starMinWithVertexAt(m.vertex, star, toCgal(target), m.before) <= m.before) continue;
       }
+      // A step under the terminator length is refused by the move (see cellsChangedByMove):
+      // no try is spent on it.
+      if (distance(target, toPoint3(m.vertex->point())) < terminatorLength_) continue;
       ++tries;
       if (tryVertexMove(m.vertex, target, made)) {
         // An undone move leaves v where it was, with the entry it had.
@@ -1766,12 +1850,21 @@ class RuleSetTRefiner {
     // cells the moves made.
     std::vector<TrackedCell> slivers;
     for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c) trackIfSliver(c, slivers);
+    int effort = 1, idleWidest = 0;
     for (int round = 0; round < kPerturbRounds && !slivers.empty(); ++round) {
       std::sort(slivers.begin(), slivers.end(), [](const TrackedCell& x, const TrackedCell& y) {
         return x.angle != y.angle ? x.angle < y.angle : x.stamp < y.stamp;
       });
-      // The few slivers the first rounds leave get more candidates each.
-      const int effort = round < kPerturbRounds / 2 ? 1 : 4;
+      // A cell can be listed twice: a later try may make it in the memory of a cell an
+      // earlier try made and deleted, which depends on memory layout. Each visit draws from
+      // `random`, so a second one would make the mesh depend on that layout.
+      slivers.erase(std::unique(slivers.begin(), slivers.end(),
+                                [](const TrackedCell& x, const TrackedCell& y) { return x.stamp == y.stamp; }),
+                    slivers.end());
+      // The few slivers the first rounds leave get more candidates each, and more again
+      // after a round that moved nothing (the last ones need the rare targets that keep
+      // their corner's cells Delaunay and their guarantees).
+      if (round == kPerturbPlainRounds) effort = std::max(effort, 4);
       std::vector<std::pair<uint64_t, CH>> made;  // stamp, cell
       std::vector<TrackedCell> next;
       int64_t moved = 0, tried = 0;
@@ -1785,7 +1878,10 @@ class RuleSetTRefiner {
           if (c->info().stamp != 0) made.emplace_back(c->info().stamp, c);
         if (s.cell->info().stamp == s.stamp) next.push_back(s);
       }
-      if (moved == 0 && effort > 1) return;
+      if (moved == 0) {
+        if (effort >= kPerturbMaxEffort && ++idleWidest == kPerturbIdleWidest) return;
+        effort = std::min(4 * effort, kPerturbMaxEffort);
+      }
       for (const auto& [stamp, c] : made)
         if (c->info().stamp == stamp) trackIfSliver(c, next);
       // A sliver kept in `next` may have been changed by a later move of the round.
