@@ -1301,8 +1301,15 @@ class RuleSetTRefiner {
                           toPoint3(c->vertex(2)->point()), toPoint3(c->vertex(3)->point()));
   }
 
+  // Rule S scans every cell each round. Most are far from the bound, and the cosine of the
+  // smallest angle (no trig) settles those; only cells near or under it get Quality's six
+  // exact angles, so which cells count as slivers does not change.
   bool isSliver(CH c) const {
-    return !dt_.is_infinite(c) && c->info().label > 0 && minDihedralDeg(c) < options_.sliver_dihedral_deg;
+    if (dt_.is_infinite(c) || c->info().label <= 0) return false;
+    const std::array<Point3, 4> corners{toPoint3(c->vertex(0)->point()), toPoint3(c->vertex(1)->point()),
+                                        toPoint3(c->vertex(2)->point()), toPoint3(c->vertex(3)->point())};
+    if (largestDihedralCosine(corners) < std::cos(options_.sliver_dihedral_deg * M_PI / 180) - 1e-9) return false;
+    return minDihedralDeg(c) < options_.sliver_dihedral_deg;
   }
 
   // Smallest dihedral angle of the cells that inserting zone.point would make in place of
@@ -1487,6 +1494,11 @@ class RuleSetTRefiner {
   // face normals: one acos instead of the six atan2 of Quality's dihedralAngles, since rule P
   // measures tens of thousands of candidate cells and only compares the results.
   static double smallestDihedralDeg(const std::array<Point3, 4>& p) {
+    return std::acos(std::clamp(largestDihedralCosine(p), -1.0, 1.0)) * 180 / M_PI;
+  }
+
+  // The cosine of a tetrahedron's smallest dihedral angle (1 for a flat one), without trig.
+  static double largestDihedralCosine(const std::array<Point3, 4>& p) {
     static constexpr int kFaceOpposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
     std::array<Point3, 4> normal;
     std::array<double, 4> length;
@@ -1494,13 +1506,13 @@ class RuleSetTRefiner {
       const auto& f = kFaceOpposite[k];
       normal[k] = cross(p[f[1]] - p[f[0]], p[f[2]] - p[f[0]]);
       length[k] = norm(normal[k]);
-      if (!(length[k] > 0)) return 0;
+      if (!(length[k] > 0)) return 1;
     }
     double largestCosine = -1;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j)
         largestCosine = std::max(largestCosine, -dot(normal[i], normal[j]) / (length[i] * length[j]));
-    return std::acos(std::clamp(largestCosine, -1.0, 1.0)) * 180 / M_PI;
+    return largestCosine;
   }
 
   // The smallest dihedral angle of cell c with corner `moved` at p (none: VH()), its corners
