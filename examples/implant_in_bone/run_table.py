@@ -1,7 +1,7 @@
 """The thesis experiment on the implant-in-bone example, measured in one run:
 
     PYTHONPATH=build/python /usr/bin/python3 examples/implant_in_bone/run_table.py
-        [--rows a,b,c,d] [--coarsen F] [--json FILE] [--inputs DIR]
+        [--rows a,b,c,d] [--coarsen F] [--json FILE] [--inputs DIR] [--repeat N]
 
 (a) thesis engine with constrained segments, (b) thesis engine featureless, (c) Mesh_3
 featureless, (d) Mesh_3 with protecting balls; all from implant_in_bone.json (the thesis
@@ -11,12 +11,16 @@ boundary and the composite input boundary (both ways), the share of the implant'
 edges covered by mesh feature edges and by any boundary mesh edges whose ends lie on them,
 and seconds per phase from the report. Rows of an engine this build does not have say so.
 --coarsen F multiplies every size in the job by F (a quick check of the script itself).
+--repeat N meshes every row N times, the rows taking turns, and the seconds column is the
+median: on a shared machine one run of a row can be 1.5x slower than the next. With rows
+(a) and (c) it also prints (a)'s time per tetrahedron against (c)'s, repeat by repeat.
 The inputs are generated first if missing (make_implant_in_bone.py, needs FreeCAD's Part).
 """
 import argparse
 import copy
 import json
 import os
+import statistics
 import sys
 import time
 
@@ -141,6 +145,40 @@ def print_table(rows, coarsen, out=sys.stdout):
           % (", ".join("%g" % a for a in applied) or "-", len(INPUTS.boundary_samples) if INPUTS else 0))
 
 
+def repeat_timings(rows, base, coarsen, folder, repeat):
+    """Meshes the measured rows repeat - 1 more times, taking turns, so that a slow spell of
+    the machine hits every row; each row's seconds become the median of its runs."""
+    measured = [r for r in rows if r["status"] == "ok"]
+    for r in measured:
+        r["seconds_runs"] = [r["seconds_total"]]
+    for _ in range(repeat - 1):
+        for r in measured:
+            _, engine, features = ROWS[r["row"]]
+            job = job_for(base, engine, features, coarsen)
+            start = time.perf_counter()
+            oraclemesh.run(job, base_directory=folder)
+            r["seconds_runs"].append(time.perf_counter() - start)
+    for r in measured:
+        r["seconds_total"] = statistics.median(r["seconds_runs"])
+
+
+def print_time_per_tet(rows, out=sys.stdout):
+    """Microseconds per tetrahedron of each row, and (a) against (c) (issue 7's target: <= 1)."""
+    measured = {r["row"]: r for r in rows if r["status"] == "ok"}
+    if not measured:
+        return
+    out.write("\nTime per tetrahedron, whole job (µs/tet%s): %s\n" % (
+        ", median of %d runs" % len(next(iter(measured.values())).get("seconds_runs", [0]))
+        if any("seconds_runs" in r for r in measured.values()) else "",
+        ", ".join("(%s) %.1f" % (k, 1e6 * r["seconds_total"] / r["tets"]) for k, r in sorted(measured.items()))))
+    if "a" in measured and "c" in measured:
+        a, c = measured["a"], measured["c"]
+        runs = list(zip(a.get("seconds_runs", [a["seconds_total"]]), c.get("seconds_runs", [c["seconds_total"]])))
+        ratios = [(ta / a["tets"]) / (tc / c["tets"]) for ta, tc in runs]
+        out.write("(a) / (c) per tetrahedron: median %.2f over %d run(s) (each: %s)\n" % (
+            statistics.median(ratios), len(ratios), ", ".join("%.2f" % x for x in ratios)))
+
+
 INPUTS = None
 
 
@@ -151,6 +189,7 @@ def main(argv=None):
     parser.add_argument("--coarsen", type=float, default=1.0)
     parser.add_argument("--json", help="also write the rows as JSON to this file")
     parser.add_argument("--inputs", default=HERE, help="folder of the generated inputs (default: this folder)")
+    parser.add_argument("--repeat", type=int, default=1, help="mesh every row this many times (seconds: median)")
     args = parser.parse_args(argv)
     keys = [k.strip() for k in args.rows.split(",") if k.strip()]
     unknown = [k for k in keys if k not in ROWS]
@@ -165,7 +204,10 @@ def main(argv=None):
     for key in keys:
         rows.append(measure_row(key, base, INPUTS, args.coarsen, folder))
         print("%s: %s" % (rows[-1]["label"], rows[-1]["status"]), file=sys.stderr, flush=True)
+    if args.repeat > 1:
+        repeat_timings(rows, base, args.coarsen, folder, args.repeat)
     print_table(rows, args.coarsen)
+    print_time_per_tet(rows)
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"coarsen": args.coarsen, "rows": rows}, f, indent=1)
