@@ -84,51 +84,61 @@ bool onCompositeBoundary(const HierarchicalOracle& oracle, const Point3& p, int 
   return false;
 }
 
-// The B-rep edges the feature curves come from, as (oracle entry, edge index).
-std::set<std::pair<int, int>> brepFeatureEdges(const FeatureGraph& features) {
-  std::set<std::pair<int, int>> edges;
+// A B-rep edge a feature curve comes from, as the angle measures along it need it.
+struct FeatureBrepEdge {
+  int entry;  // oracle entry of the solid
+  int index;  // edge index in the solid
+  const BrepSolid* solid;
+  const TopoDS_Edge& edge;
+  double first, last;  // parameter range
+  const BRepAdaptor_Curve& curve;
+};
+
+// Measures each B-rep edge behind the feature curves once (`measure` returns the smallest
+// angle it found along the edge, with its location; angle 360 for none) and adds the result
+// under `kind` when it is under `limit`.
+template <class Measure>
+void measureFeatureBrepEdges(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
+                             const char* kind, std::vector<SmallInputAngle>& out, Measure measure) {
+  std::set<std::pair<int, int>> edges;  // (oracle entry, edge index): curves may share an edge
   for (const FeaturePolyline& pl : features.polylines)
     if (pl.source >= 0 && pl.edge >= 0) edges.insert({pl.source, pl.edge});
-  return edges;
-}
-
-// Adds the smallest angle found along B-rep edge `e` of `input` when it is under `limit`.
-void keepIfUnder(double limit, SmallInputAngle smallest, const char* kind, const std::string& input, int e,
-                 std::vector<SmallInputAngle>& out) {
-  if (smallest.angle_deg >= limit) return;
-  smallest.kind = kind;
-  smallest.input = input;
-  smallest.edge = e;
-  out.push_back(std::move(smallest));
+  for (const auto& [entry, e] : edges) {
+    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    if (!solid) continue;
+    const TopoDS_Edge& edge = solid->edge(e);
+    double first, last;
+    BRep_Tool::Range(edge, first, last);
+    const BRepAdaptor_Curve curve(edge);
+    SmallInputAngle smallest = measure(FeatureBrepEdge{entry, e, solid, edge, first, last, curve});
+    if (smallest.angle_deg >= limit) continue;
+    smallest.kind = kind;
+    smallest.input = solid->name();
+    smallest.edge = e;
+    out.push_back(std::move(smallest));
+  }
 }
 
 void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
                     std::vector<SmallInputAngle>& out) {
-  const std::set<std::pair<int, int>> featureEdges = brepFeatureEdges(features);
-  for (const auto& [entry, e] : featureEdges) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
-    if (!solid) continue;
-    const std::vector<int>& faces = solid->facesOfEdge(e);
-    if (faces.size() != 2) continue;
-    const TopoDS_Edge& edge = solid->edge(e);
-    double first, last;
-    BRep_Tool::Range(edge, first, last);
-    BRepAdaptor_Curve curve(edge);
+  measureFeatureBrepEdges(oracle, features, limit, "dihedral", out, [&](const FeatureBrepEdge& b) {
     SmallInputAngle smallest;
     smallest.angle_deg = 360;
+    const std::vector<int>& faces = b.solid->facesOfEdge(b.index);
+    if (faces.size() != 2) return smallest;
     constexpr int kSamples = 11;
     for (int i = 0; i < kSamples; ++i) {
-      const double u = first + (0.0005 + 0.999 * i / (kSamples - 1)) * (last - first);
+      const double u = b.first + (0.0005 + 0.999 * i / (kSamples - 1)) * (b.last - b.first);
       double angle;
-      if (!interiorDihedral(solid->face(faces[0]), solid->face(faces[1]), edge, u, angle)) continue;
-      const Point3 p = toPoint3(curve.Value(u));
-      if (degrees(angle) < smallest.angle_deg && onCompositeBoundary(oracle, p, entry)) {
+      if (!interiorDihedral(b.solid->face(faces[0]), b.solid->face(faces[1]), b.edge, u, angle)) continue;
+      const Point3 p = toPoint3(b.curve.Value(u));
+      if (degrees(angle) < smallest.angle_deg && onCompositeBoundary(oracle, p, b.entry)) {
         smallest.angle_deg = degrees(angle);
         smallest.location = p;
       }
     }
-    keepIfUnder(limit, smallest, "dihedral", solid->name(), e, out);
-  }
+    return smallest;
+  });
 }
 
 // Unit direction in which polyline `pl` leaves its end point (front, or back when `atBack`):
@@ -338,28 +348,21 @@ void junctionAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
 // more runs of labels mean that other inputs take part, and the shortest run is the wedge.
 void contactWedges(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
                    std::vector<SmallInputAngle>& out) {
-  const std::set<std::pair<int, int>> featureEdges = brepFeatureEdges(features);
   const auto& entries = oracle.entries();
   const double radius = 1e-4 * oracle.diagonal();
   constexpr int kProbes = 72, kSamples = 5;
-  for (const auto& [entry, e] : featureEdges) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(entries[entry].source.get());
-    if (!solid) continue;
-    const TopoDS_Edge& edge = solid->edge(e);
-    double first, last;
-    BRep_Tool::Range(edge, first, last);
-    BRepAdaptor_Curve curve(edge);
+  measureFeatureBrepEdges(oracle, features, limit, "contact", out, [&](const FeatureBrepEdge& b) {
     SmallInputAngle smallest;
     smallest.angle_deg = 360;
     for (int i = 0; i < kSamples; ++i) {
-      const double u = first + (i + 0.5) / kSamples * (last - first);
+      const double u = b.first + (i + 0.5) / kSamples * (b.last - b.first);
       gp_Pnt at;
       gp_Vec d1;
-      curve.D1(u, at, d1);
+      b.curve.D1(u, at, d1);
       const Point3 p = toPoint3(at);
       bool touched = false;  // another input's boundary passes through the edge here
       for (size_t j = 0; j < entries.size() && !touched; ++j)
-        touched = static_cast<int>(j) != entry && entries[j].source->bbox().contains(p, radius) &&
+        touched = static_cast<int>(j) != b.entry && entries[j].source->bbox().contains(p, radius) &&
                   entries[j].source->project(p).distance <= 10 * oracle.tolerance();
       if (!touched || d1.Magnitude() <= 0) continue;
       Point3 tangent{d1.X(), d1.Y(), d1.Z()};
@@ -390,8 +393,8 @@ void contactWedges(const HierarchicalOracle& oracle, const FeatureGraph& feature
         smallest.location = p;
       }
     }
-    keepIfUnder(limit, smallest, "contact", solid->name(), e, out);
-  }
+    return smallest;
+  });
 }
 
 }  // namespace
