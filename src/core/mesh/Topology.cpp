@@ -48,7 +48,8 @@ struct FaceRecord {
 // table are deterministic. The faces are bucketed by their smallest vertex (a vertex starts
 // few faces, about 20 here) and matched inside the bucket: the same table as a hash map of
 // sorted vertex triples gives, at a fraction of its cost (the map was the largest single
-// item of extracting a thesis-engine mesh).
+// item of extracting a thesis-engine mesh). Callers have checked the indices
+// (requireConsistentIndices).
 std::vector<FaceRecord> buildFaceTable(const TetMesh& mesh) {
   const size_t occurrences = mesh.tets.size() * 4;
   std::vector<FaceKey> keyOf(occurrences);
@@ -58,7 +59,6 @@ std::vector<FaceRecord> buildFaceTable(const TetMesh& mesh) {
       const auto& f = kOutwardFaceOpposite[k];
       FaceKey key{mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
       std::sort(key.begin(), key.end());
-      if (key[0] < 0) throw Error("internal error: tet " + std::to_string(t) + " has a negative point index");
       vertexEnd = std::max(vertexEnd, key[2] + 1);
       keyOf[t * 4 + k] = key;
     }
