@@ -253,7 +253,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize, userCurves);
     clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
   }
-  // Rule Set Q (thesis §3.2.2). Sharp edges of different inputs can cross mid-segment (edges
+  // Rule Set Q (thesis §3.2, §3.2.1). Sharp edges of different inputs can cross mid-segment (edges
   // of two parts on a common plane), so every graph is split, not only one with user curves.
   // User curves snap onto CAD chords within 2.5 % of the edge size (chords of curved CAD edges
   // are up to 2 % off the curve); two CAD curves cross where their chords come within twice
@@ -573,7 +573,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   std::unordered_map<int, CurveOrigin> origins;
   FeaturePreparation preparation;
   const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins, preparation);
-  // 60 degrees: the thesis' termination bound for Rule Set T (§3.3).
+  // 60 degrees: the thesis' termination bound for Rule Set T (§3.3.2).
   constexpr double kSmallAngleLimitDeg = 60;
   const std::vector<SmallInputAngle> smallAngles = findSmallInputAngles(oracle, features, kSmallAngleLimitDeg, preparation.junctions.get());
   if (!smallAngles.empty()) {
