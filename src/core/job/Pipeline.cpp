@@ -21,6 +21,7 @@
 #include "domain/TriangleSurface.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
+#include "features/CurveRegistry.h"
 #include "features/InputAngles.h"
 #include "features/CurveSampling.h"
 #include "features/FeatureSeparation.h"
@@ -165,15 +166,6 @@ void checkExpectedSize(const JobSpec& job, const std::vector<OracleEntry>& entri
                      ": raise cell_size (check the model units: FreeCAD works in mm) or raise limits.max_vertices");
 }
 
-struct CurveOrigin {
-  int entry = -1;
-  int edge = -1;
-  int junction = -1;                               // junction curve index, then entry = edge = -1
-  std::shared_ptr<const JunctionCurves> junctions;  // owns the junction edges for the run
-  const std::vector<Point3>* user = nullptr;        // the job's polyline for a user polyline
-  std::shared_ptr<const UserCurve> user_curve;      // its exact CAD edge, when the job gave one
-};
-
 // The CGAL Mesh_3 settings of a job: the Mesh_3 engine's, and the sliver removal every
 // engine's mesh goes through.
 Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
@@ -219,7 +211,7 @@ double thesisEngineSagitta(const JobSpec& job, const CriteriaTable& table, doubl
 }
 
 FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
-                           const RunControl& control, std::unordered_map<int, CurveOrigin>& origins,
+                           const RunControl& control, CurveRegistry& curves,
                            FeaturePreparation& preparation) {
   FeatureGraph all;
   if (!job.features) return all;
@@ -269,10 +261,10 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // The thesis engine applies Q1 itself (T1.1, with l_min,i of these polylines); equalising
   // here as well would make it split the already equalised segments again, at l_min,i / 9.
   if (job.engine != "thesis") clipped = equalizeStarSegments(clipped, stars);
-  for (const FeaturePolyline& pl : clipped.polylines)
-    origins[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
-                         pl.user >= 0 ? &job.user_polylines[pl.user] : nullptr,
-                         pl.user >= 0 ? userCurves[pl.user] : nullptr};
+  std::vector<std::shared_ptr<const std::vector<Point3>>> userPolylines;
+  for (const std::vector<Point3>& polyline : job.user_polylines)
+    userPolylines.push_back(std::make_shared<const std::vector<Point3>>(polyline));
+  curves.addPolylines(clipped, junctions, userPolylines, userCurves);
   return clipped;
 }
 
@@ -298,18 +290,6 @@ struct SnapResult {
   double max_distance_kept = 0;
   Point3 worst_kept{};
 };
-
-BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveOrigin& origin, const Point3& p) {
-  if (origin.junction >= 0 && origin.junctions) return origin.junctions->projectOnCurve(origin.junction, p);
-  if (origin.user) {
-    const Point3 q = origin.user_curve ? origin.user_curve->nearest(p) : nearestOnPolyline(*origin.user, p);
-    return {q, -1, distance(p, q)};
-  }
-  if (origin.entry < 0 || origin.edge < 0) return {};
-  const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[origin.entry].source.get());
-  if (!solid) return {};
-  return solid->projectOnEdge(p, origin.edge);
-}
 
 // Feature edges of `mesh` that are not edges of any of its tets (0 when every constrained
 // subsegment is a mesh edge).
@@ -401,7 +381,7 @@ int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& targe
 }
 
 SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
-                                const std::unordered_map<int, CurveOrigin>& origins, const RunControl& control) {
+                                const CurveRegistry& curves, const RunControl& control) {
   SnapResult r;
   r.vertex_entry.assign(mesh.points.size(), -1);
   std::vector<char> onBoundary(mesh.points.size(), 0);
@@ -425,10 +405,9 @@ SnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle& oracle,
     BoundaryProjection q;
     int entry = -1;
     const int curve = mesh.vertex_curve[v];
-    if (mesh.vertex_dimension[v] <= 1 && curve >= 0 && origins.count(curve)) {
-      const CurveOrigin& origin = origins.at(curve);
-      q = projectOnCurve(oracle, origin, mesh.points[v]);
-      entry = origin.entry;
+    if (mesh.vertex_dimension[v] <= 1 && curve >= 0 && curves.contains(curve)) {
+      q = curves.project(curve, mesh.points[v]);
+      entry = curves.entryOf(curve);
     }
     if (!std::isfinite(q.distance)) q = oracle.projectOnBoundary(mesh.points[v], &entry);
     r.vertex_entry[v] = entry;
@@ -570,9 +549,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("load");
 
   control.report("features", 0);
-  std::unordered_map<int, CurveOrigin> origins;
+  CurveRegistry curves(oracle);
   FeaturePreparation preparation;
-  const FeatureGraph features = buildFeatures(job, oracle, criteria, control, origins, preparation);
+  const FeatureGraph features = buildFeatures(job, oracle, criteria, control, curves, preparation);
   // 60 degrees: the thesis' termination bound for Rule Set T (§3.3.2).
   constexpr double kSmallAngleLimitDeg = 60;
   const std::vector<SmallInputAngle> smallAngles = findSmallInputAngles(oracle, features, kSmallAngleLimitDeg, preparation.junctions.get());
@@ -620,12 +599,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     // Segment vertices go onto the curves, so the snap leaves them where they are (moving them
     // by the chord's sagitta took implant_in_bone (a) from 13.7 degrees before the snap to 7.9
     // after it).
-    options.onto_curve = [&](int curve, const Point3& p) {
-      auto origin = origins.find(curve);
-      const BoundaryProjection q =
-          origin == origins.end() ? BoundaryProjection{} : projectOnCurve(oracle, origin->second, p);
-      return std::isfinite(q.distance) ? q.point : p;
-    };
+    options.onto_curve = [&](int curve, const Point3& p) { return curves.ontoCurve(curve, p); };
     RuleSetTStatistics stats;
     try {
       result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
@@ -722,7 +696,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   mesh.boundary = extractBoundary(mesh);
   // What the snap costs in quality (each engine leaves some boundary vertices off the faces).
   const double minDihedralBeforeSnap = measureQuality(mesh).min_dihedral;
-  const SnapResult snap = snapBoundaryVertices(mesh, oracle, origins, control);
+  const SnapResult snap = snapBoundaryVertices(mesh, oracle, curves, control);
   clock.finish("snap");
   if (snap.kept_off_surface > 0) {
     std::ostringstream message;
@@ -746,8 +720,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     auto place = [&](int64_t a, int64_t b, const Point3& mid) -> Point3 {
       const uint64_t key = edgeKey(a, b);
       auto f = featureCurveOfEdge.find(key);
-      if (f != featureCurveOfEdge.end() && origins.count(f->second)) {
-        const BoundaryProjection q = projectOnCurve(oracle, origins.at(f->second), mid);
+      if (f != featureCurveOfEdge.end() && curves.contains(f->second)) {
+        const BoundaryProjection q = curves.project(f->second, mid);
         if (std::isfinite(q.distance)) return q.point;
       }
       if (!boundaryEdges.count(key)) return mid;
@@ -759,8 +733,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     straightMidNodes = makeSecondOrder(mesh, place);
     straightMidNodes -= curveStraightFeatureMidNodes(mesh, [&](int64_t a, int64_t b, const Point3& p) -> Point3 {
       auto f = featureCurveOfEdge.find(edgeKey(a, b));
-      const BoundaryProjection q = f != featureCurveOfEdge.end() && origins.count(f->second)
-                                       ? projectOnCurve(oracle, origins.at(f->second), p)
+      const BoundaryProjection q = f != featureCurveOfEdge.end() && curves.contains(f->second)
+                                       ? curves.project(f->second, p)
                                        : BoundaryProjection{};
       return std::isfinite(q.distance) ? q.point : Point3{NAN, NAN, NAN};
     });
