@@ -206,7 +206,7 @@ struct FeaturePreparation {
 // The chord bound of the feature polylines: 0 (the default, featureSagittaTolerance) except
 // for the thesis engine, whose polyline samples are all mesh vertices (thesisSagittaTolerance).
 double thesisEngineSagitta(const JobSpec& job, const CriteriaTable& table, double edgeSize) {
-  if (job.engine != "thesis") return 0;
+  if (job.engine != Engine::Thesis) return 0;
   return thesisSagittaTolerance(edgeSize, table.strictest(&MaterialCriteria::facet_distance));
 }
 
@@ -260,7 +260,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   preparation.star_vertices = static_cast<int64_t>(stars.size());
   // The thesis engine applies Q1 itself (T1.1, with l_min,i of these polylines); equalising
   // here as well would make it split the already equalised segments again, at l_min,i / 9.
-  if (job.engine != "thesis") clipped = equalizeStarSegments(clipped, stars);
+  if (job.engine != Engine::Thesis) clipped = equalizeStarSegments(clipped, stars);
   std::vector<std::shared_ptr<const std::vector<Point3>>> userPolylines;
   for (const std::vector<Point3>& polyline : job.user_polylines)
     userPolylines.push_back(std::make_shared<const std::vector<Point3>>(polyline));
@@ -520,7 +520,7 @@ double thesisSliverBound(const JobSpec& job) {
 JobResult runJob(const JobSpec& job, const RunControl& control) {
   PhaseClock clock;
   json report;
-  report["engine"] = job.engine;
+  report["engine"] = engineName(job.engine);
   report["version"] = version();
   json warnings = json::array();
 
@@ -570,11 +570,10 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   JobResult result;
   json engineReport;
   int64_t seedsOnBoundary = 0, protectingBalls = 0;
-  if (job.engine == "thesis") {
+  if (job.engine == Engine::Thesis) {
     RuleSetTOptions options;
     options.criteria = criteria;
-    options.assignment =
-        job.material_assignment == "barycenter" ? MaterialAssignment::Barycenter : MaterialAssignment::Circumcenter;
+    options.assignment = job.material_assignment;
     options.initial_points = job.initial_points;
     options.max_vertices = job.max_vertices;
     options.seed = job.seed;
@@ -769,13 +768,13 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                           {"ok", conformity.ok()}};
   json crit = {{"default", criteriaJson(criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
-  if (job.engine == "cgal") {
+  if (job.engine == Engine::Cgal) {
     crit["cell_radius_edge_ratio_applied"] = engineReport["cell_radius_edge_ratio_applied"];
     crit["facet_angle_applied"] = engineReport["facet_angle_applied"];
     crit["feature_edge_size_applied"] = engineReport["feature_edge_size"];
   } else {
     report["thesis"] = engineReport;
-    report["material_assignment"] = job.material_assignment;
+    report["material_assignment"] = materialAssignmentName(job.material_assignment);
   }
   report["criteria"] = crit;
   int64_t sharpPolylines = 0, junctionPolylines = 0, userPolylines = 0;
