@@ -6,6 +6,10 @@
 
 namespace oraclemesh {
 
+// Which point of a cell decides its material: the circumcentre (Pons 2007, as CGAL Mesh_3
+// does) or the barycentre (thesis §4.1). The job names it (JobSpec), the thesis engine uses it.
+enum class MaterialAssignment { Circumcenter, Barycenter };
+
 struct MaterialCriteria {
   double cell_size = 0;               // circumradius bound of tets
   double cell_radius_edge_ratio = 2;  // circumradius / shortest edge bound

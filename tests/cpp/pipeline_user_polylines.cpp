@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "features/RuleSetQ.h"
 #include "features/UserPolylines.h"
 #include "job/Pipeline.h"
 #include "mesh_checks.h"

@@ -1,4 +1,4 @@
-// Rule Set Q preparation (thesis §3.2.2) on small hand-made feature graphs: splitting at
+// Rule Set Q preparation (thesis §3.2, §3.2.1) on small hand-made feature graphs: splitting at
 // crossings, star vertices, and Q1's equal incident segments at l_min / 3.
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Input angles under the limit where Delaunay refinement needs care (thesis §3.3: Rule Set T
+// Input angles under the limit where Delaunay refinement needs care (thesis §3.3.2: Rule Set T
 // terminates for angles of 60 degrees and more; Mesh_3's protecting balls cope with smaller
 // ones but leave flat elements there). They are listed in the report so the user knows where
 // poor elements come from and which part of the CAD model causes them.

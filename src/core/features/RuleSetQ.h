@@ -1,8 +1,9 @@
 #pragma once
-// Rule Set Q (thesis §3.2.2): the segment-splitting rules that make Delaunay refinement of
-// constrained segments terminate. Star vertices are where constrained curves meet; the thesis'
-// Q1 makes every segment incident to a star vertex equally long (l_min/3) so that splitting
-// one of them never encroaches another.
+// Rule Set Q (thesis §3.2.1) and the step before it (thesis §3.2): the segment-splitting rules
+// that make Delaunay refinement of constrained segments terminate. First the segments are split
+// at their mutual intersections, so that they meet only at their ends. Star vertices are where
+// constrained curves meet; the thesis' Q1 makes every segment incident to a star vertex equally
+// long (l_min/3) so that splitting one of them never encroaches another.
 //
 // Our polylines sample smooth curves, so a polyline's inner vertices are not corners: a star
 // vertex is an end point shared by two or more polyline ends (a B-rep vertex where edges meet,
@@ -14,6 +15,24 @@
 #include "features/FeatureGraph.h"
 
 namespace oraclemesh {
+
+// Thesis §3.2's step before Rule Set Q ("compute all intersections ... and split the segments
+// accordingly"): splits polylines where they cross or touch one another so that every meeting
+// point is an end point shared bitwise by all pieces.
+// - A pair with a user polyline meets where the two come closer than `tolerance`; the meeting
+//   point is taken on the CAD curve (it lies on the CAD edge).
+// - Two CAD curves (sharp edges, junction curves) meet where they come closer than
+//   `curveTolerance` (their chords stray from the exact curves by the sampling sagitta) at an
+//   angle of at least a degree (nearer to parallel they are tangent, not crossing): there both
+//   are split at the middle of the closest points. Where one ends on the other (within
+//   100 x curveTolerance: a T), the other is split at that end point. Within
+//   `sharedEndClearance` of an end both share, nothing is split: curves leaving a B-rep vertex
+//   at a small angle stay close for a while without crossing. Two CAD curves that share a
+//   stretch (a segment of one lies on the other: edges of parts in contact along the same
+//   arc) are not split against each other. curveTolerance <= 0 leaves CAD pairs alone.
+// Pieces keep their fields; curves are renumbered 0, 1, ...
+FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance = 0,
+                              double sharedEndClearance = 0);
 
 struct StarVertex {
   struct Incident {

@@ -277,6 +277,12 @@ static std::vector<std::vector<Point3>> parsePolylines(const json& value, std::v
   return polylines;
 }
 
+const char* engineName(Engine engine) { return engine == Engine::Thesis ? "thesis" : "cgal"; }
+
+const char* materialAssignmentName(MaterialAssignment assignment) {
+  return assignment == MaterialAssignment::Barycenter ? "barycenter" : "circumcenter";
+}
+
 JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
@@ -333,12 +339,16 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   }
 
   if (job.contains("engine")) {
-    spec.engine = job["engine"].is_string() ? job["engine"].get<std::string>() : "";
-    if (spec.engine != "cgal" && spec.engine != "thesis")
+    const std::string engine = job["engine"].is_string() ? job["engine"].get<std::string>() : "";
+    if (engine == engineName(Engine::Thesis))
+      spec.engine = Engine::Thesis;
+    else if (engine == engineName(Engine::Cgal))
+      spec.engine = Engine::Cgal;
+    else
       throw InputError("engine must be 'cgal' (Mesh_3) or 'thesis' (Rule Set T), got " + job["engine"].dump());
   }
   if (spec.planar_faces) {
-    if (spec.engine != "thesis")
+    if (spec.engine != Engine::Thesis)
       throw InputError("features.planar_faces needs engine \"thesis\": the 'cgal' engine (Mesh_3) cannot keep planar "
                        "faces flat; set \"engine\": \"thesis\" or remove features.planar_faces");
     // The recovery is well posed only where the faces' borders are constrained segments.
@@ -348,15 +358,18 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   }
   if (job.contains("material_assignment")) {
     const json& m = job["material_assignment"];
-    if (m != "circumcenter" && m != "barycenter")
+    if (m == materialAssignmentName(MaterialAssignment::Circumcenter))
+      spec.material_assignment = MaterialAssignment::Circumcenter;
+    else if (m == materialAssignmentName(MaterialAssignment::Barycenter))
+      spec.material_assignment = MaterialAssignment::Barycenter;
+    else
       throw InputError("material_assignment must be \"circumcenter\" or \"barycenter\", got " + m.dump());
-    spec.material_assignment = m.get<std::string>();
-    if (spec.engine != "thesis" && spec.material_assignment != "circumcenter")
+    if (spec.engine != Engine::Thesis && spec.material_assignment != MaterialAssignment::Circumcenter)
       throw InputError("material_assignment: the 'cgal' engine assigns materials by circumcentre only: use "
                        "\"circumcenter\" or engine 'thesis'");
   }
   if (job.contains("initial_points") && !job["initial_points"].empty()) {
-    if (spec.engine != "thesis")
+    if (spec.engine != Engine::Thesis)
       throw InputError("initial_points are not supported by the 'cgal' engine: remove them or use engine 'thesis'");
     const json& list = job["initial_points"];
     if (!list.is_array()) throw InputError("initial_points must be a list of [x, y, z] points in model units");

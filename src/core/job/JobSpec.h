@@ -11,9 +11,18 @@
 #include <vector>
 
 #include "Geometry.h"
+#include "MeshCriteria.h"
 #include "domain/HierarchicalOracle.h"
 
 namespace oraclemesh {
+
+// The refinement engine: Rule Set T (refine/ThesisEngine) or CGAL Mesh_3 (cgal/Mesh3Engine).
+enum class Engine { Thesis, Cgal };
+
+// The job's names for them ("thesis", "cgal"; "circumcenter", "barycenter"), as parsed and as
+// printed back in the report.
+const char* engineName(Engine engine);
+const char* materialAssignmentName(MaterialAssignment assignment);
 
 struct InputSpec {
   enum class Kind { File, BrepText, Sphere, Surface, Image };
@@ -66,10 +75,10 @@ struct JobSpec {
   // "thesis" (Rule Set T) or "cgal" (Mesh_3). Thesis is the default since it beat Mesh_3 on
   // the refine benchmark (issue 7); Mesh_3 stays one setting away for the inputs it handles
   // better (protecting balls terminate for any input angle).
-  std::string engine = "thesis";
+  Engine engine = Engine::Thesis;
   // Thesis engine only: which point of a cell decides its material ("circumcenter", Pons
   // 2007, or "barycenter", thesis §4.1), and points inserted before refinement.
-  std::string material_assignment = "circumcenter";
+  MaterialAssignment material_assignment = MaterialAssignment::Circumcenter;
   std::vector<Point3> initial_points;
   int element_order = 2;
   bool perturb = true;

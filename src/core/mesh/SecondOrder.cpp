@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "mesh/Quality.h"
@@ -181,6 +182,37 @@ int curveStraightFeatureMidNodes(TetMesh& mesh, const MidNodePlacer& onCurve) {
       mesh.points[mid] = middle;
   }
   return curved;
+}
+
+int64_t makeSecondOrderOnGeometry(TetMesh& mesh, const HierarchicalOracle& oracle, const CurveRegistry& curves,
+                                  const std::vector<int>& vertexEntry) {
+  std::unordered_map<EdgeKey, int, EdgeHash> featureCurveOfEdge;
+  for (size_t i = 0; i < mesh.feature_edges.size(); ++i)
+    featureCurveOfEdge[edgeKey(mesh.feature_edges[i][0], mesh.feature_edges[i][1])] = mesh.feature_edge_curves[i];
+  std::unordered_set<EdgeKey, EdgeHash> boundaryEdges;
+  for (const BoundaryTriangle& t : mesh.boundary)
+    for (int k = 0; k < 3; ++k) boundaryEdges.insert(edgeKey(t.v[k], t.v[(k + 1) % 3]));
+  // Mid nodes of curved edges and faces go onto the exact CAD geometry, the rest stay straight.
+  auto place = [&](int64_t a, int64_t b, const Point3& mid) -> Point3 {
+    const EdgeKey key = edgeKey(a, b);
+    auto f = featureCurveOfEdge.find(key);
+    if (f != featureCurveOfEdge.end()) {
+      const BoundaryProjection q = curves.project(f->second, mid);
+      if (std::isfinite(q.distance)) return q.point;
+    }
+    if (!boundaryEdges.count(key)) return mid;
+    const int ea = vertexEntry[a], eb = vertexEntry[b];
+    const BoundaryProjection q = (ea >= 0 && ea == eb) ? oracle.entries()[ea].source->project(mid)
+                                                        : oracle.projectOnBoundary(mid);
+    return std::isfinite(q.distance) ? q.point : mid;
+  };
+  int64_t straightMidNodes = makeSecondOrder(mesh, place);
+  straightMidNodes -= curveStraightFeatureMidNodes(mesh, [&](int64_t a, int64_t b, const Point3& p) -> Point3 {
+    auto f = featureCurveOfEdge.find(edgeKey(a, b));
+    const BoundaryProjection q = f != featureCurveOfEdge.end() ? curves.project(f->second, p) : BoundaryProjection{};
+    return std::isfinite(q.distance) ? q.point : Point3{NAN, NAN, NAN};
+  });
+  return straightMidNodes;
 }
 
 }  // namespace oraclemesh

@@ -3,8 +3,11 @@
 // CAD face or edge for boundary edges), kept straight wherever curving would fold a tet.
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "Geometry.h"
+#include "domain/HierarchicalOracle.h"
+#include "features/CurveRegistry.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -41,5 +44,14 @@ bool curvedTetIsValid(const TetMesh& mesh, size_t t);
 // 55-70 % of the edge, keeps the first that leaves every tet at the mid node valid; returns
 // how many mid nodes it put onto their curve (the others stay straight).
 int curveStraightFeatureMidNodes(TetMesh& mesh, const MidNodePlacer& onCurve);
+
+// Second order on the exact geometry, for a mesh whose boundary nodes are on it (after the
+// boundary snap; mesh.boundary current): the mid node of a feature edge goes onto its curve
+// (`curves`), that of another boundary edge onto the boundary of the oracle entry both its ends
+// lie on (`vertexEntry`, BoundarySnapResult::vertex_entry) or else the nearest boundary, the
+// others stay straight; then curveStraightFeatureMidNodes. Returns the mid nodes left straight
+// against their placement (makeSecondOrder's fall-backs less those curved afterwards).
+int64_t makeSecondOrderOnGeometry(TetMesh& mesh, const HierarchicalOracle& oracle, const CurveRegistry& curves,
+                                  const std::vector<int>& vertexEntry);
 
 }  // namespace oraclemesh

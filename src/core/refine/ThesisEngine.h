@@ -17,8 +17,6 @@
 
 namespace oraclemesh {
 
-enum class MaterialAssignment { Circumcenter, Barycenter };
-
 struct RuleSetTOptions {
   CriteriaTable criteria;
   MaterialAssignment assignment = MaterialAssignment::Circumcenter;  // Pons 2007 / thesis §4.1

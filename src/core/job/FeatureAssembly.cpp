@@ -1,0 +1,117 @@
+#include "job/FeatureAssembly.h"
+
+#include <sstream>
+
+#include "domain/BrepSolid.h"
+#include "features/BrepSharpEdges.h"
+#include "features/CoincidentFeatures.h"
+#include "features/CurveSampling.h"
+#include "features/RuleSetQ.h"
+#include "features/UserPolylines.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// The chord bound of the feature polylines: 0 (the default, featureSagittaTolerance) except
+// for the thesis engine, whose polyline samples are all mesh vertices (thesisSagittaTolerance).
+double thesisEngineSagitta(const JobSpec& job, const CriteriaTable& table, double edgeSize) {
+  if (job.engine != Engine::Thesis) return 0;
+  return thesisSagittaTolerance(edgeSize, table.strictest(&MaterialCriteria::facet_distance));
+}
+
+FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table,
+                           const RunControl& control, AssembledFeatures& assembled) {
+  FeatureGraph all;
+  if (!job.features) return all;
+  const double edgeSize = table.strictest(&MaterialCriteria::edge_size);
+  const double sagitta = thesisEngineSagitta(job, table, edgeSize);
+  int nextCurve = 0;
+  for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
+    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[i].source.get());
+    if (!solid) continue;
+    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta);
+    for (FeaturePolyline& pl : g.polylines) {
+      pl.curve = nextCurve++;  // extraction numbers per solid; the graph needs global ids
+      all.polylines.push_back(std::move(pl));
+    }
+  }
+  FeatureGraph clipped = clipToCompositeBoundary(all, oracle);
+  // Where two inputs' boundaries cross (pin leaving the plate, cut faces across the plate).
+  std::shared_ptr<const JunctionCurves> junctions;
+  if (job.junctions) {
+    junctions = std::make_shared<const JunctionCurves>(JunctionCurves::compute(oracle, job.sharp_angle_deg, &control));
+    clipped = joinJunctions(clipped, junctions->polylines(edgeSize, sagitta), oracle, *junctions);
+  }
+  assembled.junctions = junctions;
+  // Parts in contact along an arc sample it twice, a sagitta apart: those copies are one curve.
+  clipped = removeCoincidentFeatures(clipped, oracle, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()));
+  std::vector<std::shared_ptr<const UserCurve>> userCurves(job.user_polylines.size());
+  for (size_t i = 0; i < job.user_polyline_curves.size() && i < userCurves.size(); ++i)
+    if (!job.user_polyline_curves[i].empty())
+      userCurves[i] = UserCurve::fromBrep(job.user_polyline_curves[i], "features.polylines[" + std::to_string(i) + "].brep");
+  if (!job.user_polylines.empty()) {
+    const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize, userCurves);
+    clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
+  }
+  // Rule Set Q (thesis §3.2, §3.2.1). Sharp edges of different inputs can cross mid-segment
+  // (edges of two parts on a common plane), so every graph is split, not only one with user
+  // curves.
+  // User curves snap onto CAD chords within 2.5 % of the edge size (chords of curved CAD edges
+  // are up to 2 % off the curve); two CAD curves cross where their chords come within twice
+  // the sampling sagitta, but not within an edge size of an end they share (part.step has
+  // curves leaving a vertex at under a degree).
+  const size_t unsplit = clipped.polylines.size();
+  const double crossingSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
+  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize);
+  assembled.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
+  // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
+  const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());
+  assembled.star_vertices = static_cast<int64_t>(stars.size());
+  // The thesis engine applies Q1 itself (T1.1, with l_min,i of these polylines); equalising
+  // here as well would make it split the already equalised segments again, at l_min,i / 9.
+  if (job.engine != Engine::Thesis) clipped = equalizeStarSegments(clipped, stars);
+  std::vector<std::shared_ptr<const std::vector<Point3>>> userPolylines;
+  for (const std::vector<Point3>& polyline : job.user_polylines)
+    userPolylines.push_back(std::make_shared<const std::vector<Point3>>(polyline));
+  assembled.curves.addPolylines(clipped, junctions, userPolylines, userCurves);
+  return clipped;
+}
+
+}  // namespace
+
+AssembledFeatures assembleFeatures(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& criteria,
+                                   const RunControl& control, std::vector<std::string>& warnings) {
+  AssembledFeatures assembled(oracle);
+  assembled.graph = buildFeatures(job, oracle, criteria, control, assembled);
+  assembled.small_angles = findSmallInputAngles(oracle, assembled.graph, kSmallInputAngleLimitDeg, assembled.junctions.get());
+  const std::vector<SmallInputAngle>& smallAngles = assembled.small_angles;
+  if (!smallAngles.empty()) {
+    const SmallInputAngle& worst = smallAngles.front();
+    std::ostringstream message;
+    message << smallAngles.size() << " input angle(s) under " << kSmallInputAngleLimitDeg << " degrees; the smallest is "
+            << worst.angle_deg << " degrees (" << worst.kind << ") of input '" << worst.input << "' at ("
+            << worst.location[0] << ", " << worst.location[1] << ", " << worst.location[2]
+            << "): elements there can stay poor; see report.small_input_angles";
+    warnings.push_back(message.str());
+  }
+  return assembled;
+}
+
+FeatureReport describeFeatures(const JobSpec& job, const AssembledFeatures& features) {
+  FeatureReport report;
+  for (const FeaturePolyline& pl : features.graph.polylines) {
+    report.sharp_edge_polylines += pl.edge >= 0;
+    report.junction_polylines += pl.junction >= 0;
+    report.user_polylines += pl.user >= 0;
+  }
+  report.enabled = job.features;
+  report.sharp_angle_deg = job.sharp_angle_deg;
+  report.junctions = job.junctions;
+  report.polylines = features.graph.polylines.size();
+  report.crossing_pieces = features.crossing_pieces;
+  report.star_vertices = features.star_vertices;
+  return report;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,218 @@
+#include "job/JobReport.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "Error.h"
+
+namespace oraclemesh {
+
+namespace {
+
+using nlohmann::json;
+
+json qualityJson(const QualityReport& q) {
+  json j;
+  j["min_dihedral_deg"] = q.min_dihedral;
+  j["max_dihedral_deg"] = q.max_dihedral;
+  j["max_radius_edge_ratio"] = q.max_radius_edge;
+  j["mean_radius_edge_ratio"] = q.mean_radius_edge;
+  j["min_dihedral_histogram_10deg"] = q.min_dihedral_histogram;
+  j["inverted_tets"] = q.inverted;
+  return j;
+}
+
+json criteriaJson(const MaterialCriteria& c) {
+  return {{"cell_size", c.cell_size},   {"cell_radius_edge_ratio", c.cell_radius_edge_ratio},
+          {"facet_size", c.facet_size}, {"facet_distance", c.facet_distance},
+          {"facet_angle", c.facet_angle}, {"edge_size", c.edge_size}};
+}
+
+json localEdgeSizesJson(const FeatureEdgeSizes& sizes) {
+  json j = {{"smallest", sizes.smallest}, {"points_lowered", sizes.bounded_points}};
+  if (std::isfinite(sizes.closest_separation)) {
+    j["closest_curves_apart"] = sizes.closest_separation;
+    j["closest_curves_at"] = sizes.closest_at;
+  }
+  return j;
+}
+
+// report.thesis.planar_faces: what the planar-face layer recovered and what it left.
+json planarFacesJson(const PlanarFaceStatistics& stats, const std::vector<SkippedPlanarFace>& skipped,
+                     const std::vector<InputReport>& inputs) {
+  json missing = json::array();
+  for (const MissingPlanarTriangle& t : stats.missing_triangles)
+    missing.push_back({{"input", inputs[t.entry].name}, {"face", t.face},
+                       {"circumcentre", t.circumcentre}, {"circumradius", t.radius}, {"reason", t.reason}});
+  json left = json::array();
+  for (const SkippedPlanarFace& f : skipped)
+    left.push_back({{"input", inputs[f.entry].name}, {"face", f.face}, {"reason", f.reason}});
+  return {{"faces", stats.faces},
+          {"triangles", stats.triangles},
+          {"missing_at_first_check", stats.missing_at_first_check},
+          {"insertions", stats.insertions},
+          {"missing", stats.missing},
+          {"missing_triangles", missing},
+          {"skipped_faces", left}};
+}
+
+json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>& inputs) {
+  const RuleSetTStatistics& stats = thesis.statistics;
+  json left = json::array();
+  for (const LeftElement& e : stats.left)
+    left.push_back({{"kind", e.kind}, {"reason", e.reason}, {"location", e.location}, {"material", e.material},
+                    {"value", e.value}});
+  json slivers = json::array();
+  for (const LeftElement& e : stats.slivers_left)
+    slivers.push_back({{"reason", e.reason}, {"location", e.location}, {"material", e.material},
+                       {"min_dihedral_deg", e.value}});
+  json engineReport = {{"rule_insertions", stats.insertions},
+                       {"star_vertices", stats.star_vertices},
+                       {"constrained_subsegments", stats.constrained_subsegments},
+                       {"final_check",
+                        {{"subsegments_not_edges", stats.subsegments_not_edges},
+                         {"encroached_subsegments", stats.encroached_subsegments},
+                         {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
+                       {"elements_left", left},
+                       {"slivers_left", slivers}};
+  if (thesis.planar_faces)
+    engineReport["planar_faces"] = planarFacesJson(stats.planar, thesis.skipped_planar_faces, inputs);
+  return engineReport;
+}
+
+json criteriaReportJson(const JobReport& r) {
+  json crit = {{"default", criteriaJson(r.criteria.defaults)}, {"materials", json::object()}};
+  for (const auto& [material, c] : r.criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
+  if (r.engine_run.mesh3) {
+    const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
+    crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;
+    crit["facet_angle_applied"] = mesh3.statistics.facet_angle_used;
+    crit["feature_edge_size_applied"] = localEdgeSizesJson(mesh3.feature_edge_sizes);
+  }
+  return crit;
+}
+
+json countsJson(const MeshCounts& c, const QualityReport& quality) {
+  json counts;
+  counts["vertices"] = c.vertices;
+  counts["tets"] = c.tets;
+  counts["boundary_triangles"] = c.boundary_triangles;
+  counts["feature_edges"] = c.feature_edges;
+  json perMaterial = json::object();
+  for (const auto& [material, n] : quality.tets_per_material) perMaterial[std::to_string(material)] = n;
+  counts["tets_per_material"] = perMaterial;
+  return counts;
+}
+
+json conformityJson(const ConformityReport& conformity) {
+  return {{"faces_shared_by_more_than_two", conformity.faces_shared_by_more_than_two},
+          {"open_boundary_edges", conformity.open_boundary_edges},
+          {"inverted_tets", conformity.inverted_tets},
+          {"unused_points", conformity.unused_points},
+          {"inconsistent_mid_nodes", conformity.inconsistent_mid_nodes},
+          {"ok", conformity.ok()}};
+}
+
+json featuresJson(const FeatureReport& f, int64_t protectingBalls) {
+  return {{"enabled", f.enabled},
+          {"sharp_edge_polylines", f.sharp_edge_polylines},
+          {"junction_polylines", f.junction_polylines},
+          {"user_polylines", f.user_polylines},
+          {"sharp_angle_deg", f.sharp_angle_deg},
+          {"junctions", f.junctions},
+          {"polylines", f.polylines},
+          {"crossing_pieces", f.crossing_pieces},
+          {"star_vertices", f.star_vertices},
+          {"protecting_ball_vertices", protectingBalls}};
+}
+
+json smallInputAnglesJson(const std::vector<SmallInputAngle>& smallAngles) {
+  json angles = json::array();
+  for (const SmallInputAngle& a : smallAngles)
+    angles.push_back({{"kind", a.kind}, {"angle_deg", a.angle_deg}, {"location", a.location},
+                      {"input", a.input}, {"edge", a.edge}});
+  return angles;
+}
+
+json boundarySnapJson(const SnapReport& s, double diagonal) {
+  const BoundarySnapStatistics& snap = s.statistics;
+  return {{"max_move", snap.max_move},
+          {"max_move_relative", diagonal > 0 ? snap.max_move / diagonal : 0},
+          {"vertices_moved", snap.moved},
+          {"vertices_on_boundary_by_engine", snap.on_boundary_by_engine},
+          {"vertices_kept_off_surface", snap.kept_off_surface},
+          {"flat_surface_slivers_removed", snap.slivers_removed},
+          {"max_distance_kept_off_surface", snap.max_distance_kept},
+          {"min_dihedral_before_deg", s.min_dihedral_before_deg}};
+}
+
+json inputsJson(const std::vector<InputReport>& inputs) {
+  json materials = json::array();
+  for (const InputReport& e : inputs)
+    materials.push_back({{"name", e.name},
+                         {"input", e.input},
+                         {"kind", e.kind},
+                         {"role", e.role == Role::Cut ? "cut" : "material"},
+                         {"material", e.material},
+                         {"source_volume", e.source_volume}});
+  return materials;
+}
+
+}  // namespace
+
+void addMeshWarnings(JobReport& report) {
+  const BoundarySnapStatistics& snap = report.boundary_snap.statistics;
+  if (snap.kept_off_surface > 0) {
+    std::ostringstream message;
+    message << snap.kept_off_surface << " boundary node(s) stay up to " << snap.max_distance_kept
+            << " from the CAD faces (worst near (" << snap.worst_kept[0] << ", " << snap.worst_kept[1] << ", "
+            << snap.worst_kept[2] << ")): putting them on the faces would flatten or invert elements; FEM constraints "
+               "on those faces may miss them (a finer edge_size near small input angles helps)";
+    report.warnings.push_back(message.str());
+  }
+  const ConformityReport& conformity = report.conformity;
+  if (conformity.inverted_tets > 0)
+    report.warnings.push_back(std::to_string(conformity.inverted_tets) +
+                              " tetrahedra are inverted (or fold, for tet10) after putting nodes on the CAD faces");
+  if (!conformity.ok()) report.warnings.push_back("the mesh failed its conformity check (see report.conformity)");
+}
+
+json reportJson(const JobReport& r) {
+  json report;
+  report["engine"] = engineName(r.engine);
+  report["version"] = r.version;
+  report["counts"] = countsJson(r.counts, r.quality);
+  json volumes = json::object();
+  for (const auto& [material, v] : r.quality.volume_per_material) volumes[std::to_string(material)] = v;
+  report["volume_per_material"] = volumes;
+  report["quality"] = qualityJson(r.quality);
+  report["conformity"] = conformityJson(r.conformity);
+  if (r.engine_run.thesis) {
+    report["thesis"] = thesisJson(*r.engine_run.thesis, r.inputs);
+    report["material_assignment"] = materialAssignmentName(r.material_assignment);
+  }
+  report["criteria"] = criteriaReportJson(r);
+  report["features"] = featuresJson(r.features, r.engine_run.protecting_ball_vertices);
+  report["small_input_angles"] = smallInputAnglesJson(r.small_input_angles);
+  report["small_input_angle_limit_deg"] = r.small_input_angle_limit_deg;
+  report["seeds_on_boundary"] = r.engine_run.seeds_on_boundary;
+  report["boundary_snap"] = boundarySnapJson(r.boundary_snap, r.bbox_diagonal);
+  report["element_order"] = r.element_order;
+  if (r.element_order == 2) report["second_order_straight_fallbacks"] = r.second_order_straight_fallbacks;
+  report["bbox_diagonal"] = r.bbox_diagonal;
+  report["inputs"] = inputsJson(r.inputs);
+  report["warnings"] = r.warnings;
+  report["seconds"] = r.seconds;
+  return report;
+}
+
+void writeReportFile(const std::string& path, const json& report) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write the report to '" + path + "': check that the folder exists and is writable");
+  out << report.dump(2) << "\n";
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,109 @@
+#pragma once
+// The job report as typed parts, filled by the phases of runJob, and the one place that turns
+// them into the report's JSON (report.json; JobResult::report). The JSON keys are part of the
+// job contract (DESIGN.md), read by the tests, FreeCAD and users' scripts.
+#include <nlohmann/json_fwd.hpp>
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "MeshCriteria.h"
+#include "cgal/Mesh3Engine.h"
+#include "domain/HierarchicalOracle.h"
+#include "features/FeatureSeparation.h"
+#include "features/InputAngles.h"
+#include "job/JobSpec.h"
+#include "mesh/BoundarySnap.h"
+#include "mesh/Quality.h"
+#include "mesh/Topology.h"
+#include "refine/ThesisEngine.h"
+
+namespace oraclemesh {
+
+// report.inputs[i]: oracle entry i.
+struct InputReport {
+  std::string name;   // the entry's own name ("<input>#k" for the k-th solid of a file)
+  std::string input;  // the job input it came from
+  std::string kind;   // "B-rep solid", "triangle surface", "image region", ...
+  Role role = Role::Material;
+  int material = 0;
+  double source_volume = 0;
+};
+
+// report.features: the constrained segments the engine got.
+struct FeatureReport {
+  bool enabled = true;
+  double sharp_angle_deg = 0;
+  bool junctions = true;
+  int64_t sharp_edge_polylines = 0, junction_polylines = 0, user_polylines = 0;
+  size_t polylines = 0;
+  int64_t crossing_pieces = 0;  // polylines added by splitting at crossings (Rule Set Q)
+  int64_t star_vertices = 0;
+};
+
+// report.thesis: what Rule Set T did (engine "thesis").
+struct ThesisEngineReport {
+  RuleSetTStatistics statistics;                      // its `seconds` go to report.seconds
+  bool planar_faces = false;                          // features.planar_faces was asked for
+  std::vector<SkippedPlanarFace> skipped_planar_faces;
+};
+
+// report.criteria.*_applied: what Mesh_3 made of the criteria (engine "cgal").
+struct Mesh3EngineReport {
+  Mesh3Statistics statistics;  // its `seconds` go to report.seconds
+  FeatureEdgeSizes feature_edge_sizes;
+};
+
+// What either engine reports; exactly one of thesis and mesh3 is set.
+struct EngineReport {
+  int64_t seeds_on_boundary = 0;
+  int64_t protecting_ball_vertices = 0;  // Mesh_3 only
+  std::optional<ThesisEngineReport> thesis;
+  std::optional<Mesh3EngineReport> mesh3;
+};
+
+// report.boundary_snap.
+struct SnapReport {
+  BoundarySnapStatistics statistics;
+  double min_dihedral_before_deg = 0;  // what the snap costs in quality
+};
+
+// report.counts, with QualityReport's tets per material.
+struct MeshCounts {
+  size_t vertices = 0, tets = 0, boundary_triangles = 0, feature_edges = 0;
+};
+
+struct JobReport {
+  std::string version;
+  Engine engine = Engine::Thesis;
+  MaterialAssignment material_assignment = MaterialAssignment::Circumcenter;  // thesis engine only
+  std::vector<InputReport> inputs;
+  double bbox_diagonal = 0;
+  CriteriaTable criteria;
+  FeatureReport features;
+  std::vector<SmallInputAngle> small_input_angles;
+  double small_input_angle_limit_deg = 0;
+  EngineReport engine_run;
+  SnapReport boundary_snap;
+  int element_order = 2;
+  int64_t second_order_straight_fallbacks = 0;  // element_order 2 only
+  MeshCounts counts;
+  QualityReport quality;
+  ConformityReport conformity;
+  std::vector<std::string> warnings;  // in the order the phases found them
+  std::map<std::string, double> seconds;
+};
+
+// Appends the warnings the finished mesh gives: boundary nodes the snap kept off the CAD faces,
+// inverted tets, a failed conformity check.
+void addMeshWarnings(JobReport& report);
+
+nlohmann::json reportJson(const JobReport& report);
+
+// Writes report.dump(2) to `path`; Error when the file cannot be written.
+void writeReportFile(const std::string& path, const nlohmann::json& report);
+
+}  // namespace oraclemesh

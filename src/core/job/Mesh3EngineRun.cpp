@@ -1,0 +1,46 @@
+#include "job/EngineRun.h"
+
+#include "features/FeatureSeparation.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// Mesh_3's protecting balls along the features: the job's edge size, lowered where curves run
+// close to one another or are short (features/FeatureSeparation), down to 1e-4 of the diagonal.
+FeatureEdgeSizes localEdgeSizes(const FeatureGraph& features, const CriteriaTable& table, double diagonal) {
+  return localFeatureEdgeSizes(features, table.strictest(&MaterialCriteria::edge_size), 1e-4 * diagonal,
+                               1e-9 * diagonal);
+}
+
+}  // namespace
+
+Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
+  Mesh3Options options;
+  options.criteria = criteria;
+  options.perturb = job.perturb;
+  options.exude = job.exude;
+  options.optimize_time_limit = job.optimize_time_limit;
+  options.sliver_bound = job.sliver_bound;
+  options.max_vertices = job.max_vertices;
+  options.seed = job.seed;
+  return options;
+}
+
+EngineRun runMesh3Engine(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& criteria,
+                         const FeatureGraph& features, const RunControl& control, PhaseClock& clock) {
+  EngineRun result;
+  Mesh3Options options = mesh3Options(job, criteria);
+  FeatureEdgeSizes edgeSizes = localEdgeSizes(features, criteria, oracle.diagonal());
+  options.feature_edge_sizes = edgeSizes.at_points;
+  Mesh3Statistics stats;
+  result.mesh = meshWithCgalMesh3(oracle, features, options, control, &stats);
+  clock.finish("mesh3");  // the engine's total; its phases are reported beside it
+  for (const auto& [phase, sec] : stats.seconds) clock.seconds["mesh3_" + phase] = sec;
+  result.report.seeds_on_boundary = stats.initial_points;
+  result.report.protecting_ball_vertices = stats.protecting_balls;
+  result.report.mesh3 = Mesh3EngineReport{std::move(stats), std::move(edgeSizes)};
+  return result;
+}
+
+}  // namespace oraclemesh
