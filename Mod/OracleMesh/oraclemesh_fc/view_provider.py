@@ -1,7 +1,7 @@
 """View provider of the OracleMesh object (GUI only): icon, the mesh coloured by material with
-its feature edges (display.py), and the task panel (task_panel.py) in edit mode: on double
-click, from the context menu, and through open_panel, which the commands' recorded lines
-reach as FreeCADGui.ActiveDocument.setEdit."""
+its feature edges (display.py), and the task panel (task_panel.py) in edit mode (setEdit):
+entered by the commands' recorded FreeCADGui.ActiveDocument.setEdit lines, and by double
+click and the context menu through open_panel."""
 import FreeCAD
 import FreeCADGui
 
