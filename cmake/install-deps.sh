@@ -16,8 +16,8 @@ packages=(
   python3-dev pybind11-dev python3-numpy python3-pytest python3-meshio
   # FreeCAD FEM and its solver
   freecad calculix-ccx
-  # peers for comparisons and benchmarks
-  gmsh tetgen
+  # peers for comparisons and benchmarks; examples/implant_in_bone/measure.py (KD-tree)
+  gmsh tetgen python3-scipy
   # GUI tests (workbench under a virtual display)
   xvfb xauth python3-matplotlib
 )

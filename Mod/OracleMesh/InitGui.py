@@ -7,7 +7,7 @@ class OracleMeshWorkbench(Workbench):  # noqa: F821 (Workbench is provided by Fr
     ToolTip = "Multi-material tetrahedral FEM meshes of overlapping solids, composed by priority"
 
     def __init__(self):
-        from oraclemesh_fc import icon_path
+        from oraclemesh_fc.icons import icon_path
         self.__class__.Icon = icon_path()
 
     def Initialize(self):

@@ -9,10 +9,14 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 
 import pytest
 
 from fc_testenv import BUILD, HERE, core_available
+
+sys.path.insert(0, os.path.dirname(HERE))
+from installed import require_programs  # noqa: E402
 
 
 @pytest.fixture
@@ -29,8 +33,7 @@ def workdir(request, tmp_path):
 @pytest.fixture
 def run_freecad(workdir):
     """run_freecad(script, params, timeout=600, env=None) -> dict written by the script."""
-    if shutil.which("freecadcmd") is None:
-        pytest.fail("freecadcmd is not installed (cmake/install-deps.sh installs FreeCAD)")
+    require_programs({"freecadcmd": "freecad"})
     if not core_available():
         pytest.fail("the core under test is missing: build the project (cmake --build build) "
                     "so %s/python/oraclemesh/_core*.so exists"

@@ -17,6 +17,7 @@ def test_extra_edges(run_freecad):
 
     assert r["stored_mid_nodes_right"]
     tol = r["tolerance"]
+    assert sorted(r["chains"]) == ["arc", "line", "marker"]
     for name, c in r["chains"].items():
         print(name, {k: v for k, v in c.items()})
         assert c["edges"] >= 2 and c["connected"], name

@@ -9,6 +9,7 @@ def test_fem_handoff_demo_assembly(run_freecad):
     assert mesh["max_signed_volume6"] < 0, "FreeCAD wants (n2-n1)x(n3-n1).(n4-n1) < 0"
     assert mesh["min_abs_signed_volume6"] > 0
     # One group per FEM material (named <FemMaterial.Name>_Volumes), covering all volumes.
+    assert len(r["groups_expected"]) == 2
     assert sorted(mesh["group_sizes"]) == sorted(r["groups_expected"])
     assert all(n > 0 for n in mesh["group_sizes"].values())
     assert mesh["groups_cover_all_once"]

@@ -19,6 +19,7 @@ def test_mesh_feature_compound_and_step_part_volumes_per_material(run_freecad):
     # plates' solids are both named by one FEM material: ids of their own, one group.
     assert [m for _, _, m in r["core_inputs"]] == [1, 2, 3, 4, 5]
     assert r["mesh"]["groups_cover_all_once"]
+    assert len(r["volume_expected"]) == 4
     assert sorted(r["volume"]) == sorted(r["volume_expected"])
     # Per material: the bone (its Placement applied: otherwise it would overlap block A
     # elsewhere and by a different amount), block A minus the bone, block B, the plates. Planar

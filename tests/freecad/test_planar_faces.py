@@ -7,6 +7,9 @@ naming it and keeps the mesh. scripts/planar_faces.py measures, this file judges
 def test_planar_faces(run_freecad):
     r = run_freecad("planar_faces.py", timeout=300)
     on, off = r["on"]["faces"], r["off"]["faces"]
+    # The wedge's five faces, all planar and bounded by sharp edges: each one is checked.
+    assert len(on) == len(off) == 5
+    assert r["report_planar_faces"]["faces"] == 5, r["report_planar_faces"]
     print("wedge tets: off %d, on %d; report %s" % (r["off"]["volumes"], r["on"]["volumes"],
                                                    r["report_planar_faces"]))
     for k, face in enumerate(on):

@@ -1,37 +1,58 @@
 """The mesh files of src/core/mesh/Writers, read by independent software (meshio, CalculiX).
 
-Order dependency: the files are written by the C++ test
-`MeshWriters.WritesRoundTripFilesForMeshio` (tests/cpp/test_mesh_writers.cpp, part of
-`oraclemesh_tests`) into ${ORACLEMESH_TEST_OUTPUT:-/tmp}. tests/run.sh runs ctest before
-pytest with the same ORACLEMESH_TEST_OUTPUT, so the files are there; run on its own, this
-module skips (with the reason) when they are missing. The mesh is the unit cube of edge 0.1
-split into six Kuhn tets around the diagonal from corner 0 to corner 7, moved by
-(1/3, -2/7, 1e-5/3); tets 0-2 (the half x >= y) have material 3, tets 3-5 material 8.
-`writer_roundtrip.*` is second order (straight mid nodes), `writer_roundtrip_tet4.*` first order.
+Each run makes its own files: oraclemesh.run meshes two overlapping balls (materials 3 and 8,
+the first wins the overlap) in both element orders and writes .vtu and .inp into pytest's
+tmp_path through the job's output.files; the files read back must hold the mesh the same
+run returned in memory. The first ball's centre (1/3, -2/7, 1e-5/3) gives coordinates
+that %.17g prints in more than CalculiX's 20 characters.
 """
 import os
-import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-meshio = pytest.importorskip("meshio")
+import oraclemesh
 
-OUTPUT = os.environ.get("ORACLEMESH_TEST_OUTPUT") or "/tmp"
-SIZE = 0.1
-OFFSET = np.array([1.0 / 3, -2.0 / 7, 1e-5 / 3])
-MATERIALS = [3, 3, 3, 8, 8, 8]
-# (stem, meshio cell type, number of points: 8 corners + 19 edges for second order)
-CASES = [("writer_roundtrip", "tetra10", 27), ("writer_roundtrip_tet4", "tetra", 8)]
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from installed import require_module, require_programs  # noqa: E402
+from tet_geometry import tet10_volumes  # noqa: E402
+
+MATERIALS = (3, 8)
+ORDERS = {1: "tetra", 2: "tetra10"}  # element order -> meshio cell type
 
 
-def written(name):
-    path = os.path.join(OUTPUT, name)
-    if not os.path.exists(path):
-        pytest.skip(f"{path} is missing: run the C++ test MeshWriters.WritesRoundTripFilesForMeshio "
-                    f"(oraclemesh_tests) first with the same ORACLEMESH_TEST_OUTPUT")
-    return path
+def two_balls_job(order, folder):
+    centre = [1.0 / 3, -2.0 / 7, 1e-5 / 3]
+    return {
+        "inputs": [{"name": "first", "sphere": {"center": centre, "radius": 1.0}, "material": 3},
+                   {"name": "second", "sphere": {"center": [centre[0] + 1.2, centre[1], centre[2]],
+                                                 "radius": 1.0}, "material": 8}],
+        "criteria": {"default": {"cell_size": 0.4, "facet_size": 0.4, "facet_distance": 0.02}},
+        "element_order": order,
+        "seed": 0,
+        "output": {"files": [os.path.join(folder, "two_balls.vtu"),
+                             os.path.join(folder, "two_balls.inp")]},
+    }
+
+
+@pytest.fixture(scope="module")
+def meshio():
+    return require_module("meshio", "python3-meshio")
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    """{order: (Result, folder)}: each order meshed once in this run, its files in folder."""
+    out = {}
+    for order in ORDERS:
+        folder = str(tmp_path_factory.mktemp("writers_order%d" % order))
+        result = oraclemesh.run(two_balls_job(order, folder))
+        for name in ("two_balls.vtu", "two_balls.inp"):
+            assert os.path.getsize(os.path.join(folder, name)) > 0, name
+        out[order] = (result, folder)
+    return out
 
 
 def corner_volumes(points, cells):
@@ -39,59 +60,71 @@ def corner_volumes(points, cells):
     return np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a)) / 6.0
 
 
-def check_geometry(mesh, cell_type, n_points):
-    """Checks points and cells; returns the cells of all blocks (the .inp has one per material)."""
-    assert len(mesh.points) == n_points
+def by_material(result):
+    """The result's tets grouped by material, in tet order within a group (the .inp order)."""
+    return np.concatenate([result.tets[result.tet_materials == m] for m in MATERIALS])
+
+
+def check_cells(mesh, result, cell_type):
+    """The file's cells: one type, positively oriented, tet10 mid nodes in the core's order."""
     assert {block.type for block in mesh.cells} == {cell_type}
     cells = np.concatenate([block.data for block in mesh.cells])
-    assert len(cells) == 6
-    np.testing.assert_allclose(mesh.points.min(axis=0), OFFSET, rtol=1e-13, atol=0)
-    np.testing.assert_allclose(mesh.points.max(axis=0), OFFSET + SIZE, rtol=1e-13, atol=0)
-    volumes = corner_volumes(mesh.points, cells)
-    assert (volumes > 0).all(), "corners must be positively oriented (VTK and CalculiX)"
-    assert volumes.sum() == pytest.approx(SIZE ** 3, rel=1e-12)
-    if cell_type == "tetra10":
-        # Mid nodes in the order 01, 12, 20, 03, 13, 23 sit on the midpoints of those edges.
-        for k, (i, j) in enumerate([(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]):
-            mid = mesh.points[cells[:, 4 + k]]
-            expected = 0.5 * (mesh.points[cells[:, i]] + mesh.points[cells[:, j]])
-            np.testing.assert_allclose(mid, expected, rtol=1e-13, atol=0)
+    assert len(cells) == len(result.tets) > 100
+    assert (corner_volumes(mesh.points, cells) > 0).all(), \
+        "corners must be positively oriented (VTK and CalculiX)"
     return cells
 
 
-@pytest.mark.parametrize("stem,cell_type,n_points", CASES)
-def test_vtu_read_by_meshio(stem, cell_type, n_points):
-    mesh = meshio.read(written(stem + ".vtu"))
-    check_geometry(mesh, cell_type, n_points)
-    assert mesh.cell_data["material"][0].tolist() == MATERIALS
-    assert mesh.cell_data["material"][0].dtype == np.int32
-    dims = mesh.point_data["vertex_dimension"]
-    assert dims[:8].tolist() == [2] * 8
-    if cell_type == "tetra10":
-        # Every edge lies on a cube face or, like the main diagonal 0-7, on the interface x = y.
-        assert dims[8:].tolist() == [2] * 19
+def test_the_job_meshes_both_materials(written):
+    for order, (result, _) in written.items():
+        assert result.tets.shape[1] == (4 if order == 1 else 10)
+        assert sorted(np.unique(result.tet_materials).tolist()) == list(MATERIALS)
 
 
-@pytest.mark.parametrize("stem,cell_type,n_points", CASES)
-def test_inp_read_by_meshio(stem, cell_type, n_points):
-    mesh = meshio.read(written(stem + ".inp"))
-    check_geometry(mesh, cell_type, n_points)
+@pytest.mark.parametrize("order", sorted(ORDERS))
+def test_vtu_read_by_meshio(meshio, written, order):
+    result, folder = written[order]
+    mesh = meshio.read(os.path.join(folder, "two_balls.vtu"))
+    cells = check_cells(mesh, result, ORDERS[order])
+    # Written with %.17g: the same doubles, the same node numbers, tets in the core's order.
+    np.testing.assert_array_equal(mesh.points, result.points)
+    np.testing.assert_array_equal(cells, result.tets)
+    material = mesh.cell_data["material"][0]
+    assert material.dtype == np.int32
+    np.testing.assert_array_equal(material, result.tet_materials)
+    np.testing.assert_array_equal(mesh.point_data["vertex_dimension"], result.vertex_dimension)
+
+
+@pytest.mark.parametrize("order", sorted(ORDERS))
+def test_inp_read_by_meshio(meshio, written, order):
+    result, folder = written[order]
+    mesh = meshio.read(os.path.join(folder, "two_balls.inp"))
+    cells = check_cells(mesh, result, ORDERS[order])
+    # Coordinates shortened to CalculiX's 20 characters: at least 14 significant digits.
+    np.testing.assert_allclose(mesh.points, result.points, rtol=0,
+                               atol=1e-13 * np.abs(result.points).max())
+    np.testing.assert_array_equal(cells, by_material(result))
     # One element set per material, defined on the *ELEMENT lines. meshio gives set members
     # per cell block, numbered within the block.
     offsets = np.cumsum([0] + [len(block.data) for block in mesh.cells])
-    for material in (3, 8):
-        members = sorted(int(offsets[b] + i) for b, local in enumerate(mesh.cell_sets[f"Material{material}"])
+    start = 0
+    for material in MATERIALS:
+        members = sorted(int(offsets[b] + i)
+                         for b, local in enumerate(mesh.cell_sets["Material%d" % material])
                          for i in local)
-        assert members == [i for i, m in enumerate(MATERIALS) if m == material]
+        count = int((result.tet_materials == material).sum())
+        assert members == list(range(start, start + count)), material
+        start += count
 
 
-@pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX (ccx) is not installed")
-@pytest.mark.parametrize("stem", ["writer_roundtrip", "writer_roundtrip_tet4"])
-def test_inp_accepted_by_calculix(stem, tmp_path):
+@pytest.mark.parametrize("order", sorted(ORDERS))
+def test_inp_accepted_by_calculix(written, order, tmp_path):
     """ccx stops with 'nonpositive jacobian' on a badly ordered element; its element volumes
-    must add up to the cube's."""
-    mesh_file = written(stem + ".inp")
-    shutil.copy(mesh_file, tmp_path / "mesh.inp")
+    must add up to the mesh's."""
+    require_programs({"ccx": "calculix-ccx"})
+    result, folder = written[order]
+    with open(os.path.join(folder, "two_balls.inp")) as f:
+        (tmp_path / "mesh.inp").write_text(f.read())
     (tmp_path / "job.inp").write_text(
         "*INCLUDE, INPUT=mesh.inp\n"
         "*MATERIAL, NAME=Steel\n*ELASTIC\n210000, 0.3\n"
@@ -99,7 +132,7 @@ def test_inp_accepted_by_calculix(stem, tmp_path):
         "*SOLID SECTION, ELSET=Material3, MATERIAL=Steel\n"
         "*SOLID SECTION, ELSET=Material8, MATERIAL=Aluminium\n"
         "*STEP\n*STATIC\n*BOUNDARY\nNall, 1, 3, 0\n*EL PRINT, ELSET=Eall\nEVOL\n*END STEP\n")
-    run = subprocess.run(["ccx", "job"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    run = subprocess.run(["ccx", "job"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
     lines = (tmp_path / "job.dat").read_text().splitlines()
     start = next(i for i, line in enumerate(lines) if "volume (element, volume)" in line)
@@ -110,5 +143,9 @@ def test_inp_accepted_by_calculix(stem, tmp_path):
             volumes[int(fields[0])] = float(fields[1])
         elif volumes:
             break
-    assert sorted(volumes) == [1, 2, 3, 4, 5, 6]
-    assert sum(volumes.values()) == pytest.approx(SIZE ** 3, rel=1e-5)
+    assert sorted(volumes) == list(range(1, len(result.tets) + 1))
+    if order == 2:
+        expected = tet10_volumes(result.points, result.tets).sum()
+    else:
+        expected = corner_volumes(result.points, result.tets).sum()
+    assert sum(volumes.values()) == pytest.approx(expected, rel=1e-5)

@@ -1,50 +1,34 @@
 """GUI commands: mesh the selection (opens the task panel), edit a mesh, export a mesh,
-quality histogram."""
+quality histogram.
+
+As FreeCAD's own FEM commands, they act through FreeCADGui.doCommand (document changes) and
+FreeCADGui.doCommandGui (views, dialogs), so the Python console shows, and the macro
+recorder records, what a command did: a recorded macro makes the same mesh object. They
+import neither the mesh object nor its task panel; the view provider opens the panel in
+edit mode.
+"""
 import FreeCAD
 import FreeCADGui
 
-from . import icon_path
+from .icons import icon_path
+from .selection import active_analysis, selected_mesh, selected_meshed, selected_solids
 
 
-def active_analysis():
-    """The active FEM analysis, if the FEM workbench knows one."""
-    try:
-        import FemGui
-        return FemGui.getActiveAnalysis()
-    except Exception:  # FEM GUI not loaded or no active analysis
-        return None
+def object_expression(obj):
+    """Python text naming obj in a recorded line."""
+    if obj.Document == FreeCAD.ActiveDocument:
+        return "FreeCAD.ActiveDocument.getObject(%r)" % obj.Name
+    return "FreeCAD.getDocument(%r).getObject(%r)" % (obj.Document.Name, obj.Name)
 
 
-def selected_solids():
-    """Selected solids, compounds, shells and Mesh objects, in selection order (= priority,
-    highest first)."""
-    from .job import can_be_input
-    objs = []
-    for sel in FreeCADGui.Selection.getSelectionEx("", 0):
-        obj = sel.Object
-        if can_be_input(obj) and obj not in objs and not is_oracle_mesh(obj):
-            objs.append(obj)
-    return objs
-
-
-def is_oracle_mesh(obj):
-    return getattr(getattr(obj, "Proxy", None), "Type", None) == "Fem::OracleMesh"
-
-
-def selected_mesh():
-    """The selected OracleMesh object (or the only one of the active document)."""
-    for obj in FreeCADGui.Selection.getSelection():
-        if is_oracle_mesh(obj):
-            return obj
-    doc = FreeCAD.ActiveDocument
-    meshes = [o for o in doc.Objects if is_oracle_mesh(o)] if doc else []
-    return meshes[0] if len(meshes) == 1 else None
-
-
-def selected_meshed():
-    """The selected OracleMesh object if it has a mesh."""
-    obj = selected_mesh()
-    return obj if obj is not None and obj.FemMesh.VolumeCount > 0 else None
+def make_mesh_line(variable, inputs, analysis, options):
+    """The recorded makeMesh call: inputs in priority order, options as values."""
+    arguments = ["FreeCAD.ActiveDocument",
+                 "[%s]" % ", ".join(object_expression(o) for o in inputs)]
+    if analysis is not None:
+        arguments.append("analysis=%s" % object_expression(analysis))
+    arguments += ["%s=%r" % (key, value) for key, value in sorted(options.items())]
+    return "%s = oraclemesh_fc.makeMesh(%s)" % (variable, ", ".join(arguments))
 
 
 class CommandMeshSelection:
@@ -63,7 +47,6 @@ class CommandMeshSelection:
 
     def Activated(self):
         from PySide import QtGui
-        from .mesh_object import makeMesh
         from . import preferences
 
         doc = FreeCAD.ActiveDocument
@@ -74,17 +57,24 @@ class CommandMeshSelection:
                 "Select one or more solids (or compounds, Mesh objects), highest priority first.")
             return
         analysis = active_analysis()
+        if analysis is not None and analysis.Document != doc:
+            analysis = None  # an analysis groups objects of its own document only
         doc.openTransaction("OracleMesh mesh")
-        mesh = makeMesh(doc, inputs, analysis=analysis)
-        preferences.apply_defaults(mesh)
-        for obj in inputs:
-            obj.ViewObject.Visibility = False
+        try:
+            FreeCADGui.addModule("oraclemesh_fc")
+            FreeCADGui.doCommand(make_mesh_line("oracle_mesh", inputs, analysis,
+                                                preferences.mesh_options(inputs)))
+            for obj in inputs:
+                FreeCADGui.doCommandGui("%s.ViewObject.Visibility = False"
+                                        % object_expression(obj))
+        except Exception:
+            doc.abortTransaction()
+            raise
         doc.commitTransaction()
         FreeCADGui.Selection.clearSelection()
-        FreeCADGui.Selection.addSelection(mesh)
+        FreeCADGui.doCommandGui("FreeCADGui.Selection.addSelection(oracle_mesh)")
         # The user meshes from the panel (Mesh button) after checking priorities and sizes.
-        from .task_panel import open_panel
-        open_panel(mesh)
+        FreeCADGui.doCommandGui("FreeCADGui.ActiveDocument.setEdit(oracle_mesh.Name, 0)")
 
 
 class CommandEdit:
@@ -99,8 +89,7 @@ class CommandEdit:
             and not FreeCADGui.Control.activeDialog()
 
     def Activated(self):
-        from .task_panel import open_panel
-        open_panel(selected_mesh())
+        FreeCADGui.doCommandGui("FreeCADGui.ActiveDocument.setEdit(%r, 0)" % selected_mesh().Name)
 
 
 class CommandExport:
@@ -115,8 +104,9 @@ class CommandExport:
         return FreeCAD.ActiveDocument is not None and selected_meshed() is not None
 
     def Activated(self):
-        from .export import export_dialog
-        export_dialog(selected_meshed())
+        FreeCADGui.addModule("oraclemesh_fc.export")
+        FreeCADGui.doCommandGui("oraclemesh_fc.export.export_dialog(%s)"
+                                % object_expression(selected_meshed()))
 
 
 class CommandHistogram:
@@ -131,8 +121,9 @@ class CommandHistogram:
         return FreeCAD.ActiveDocument is not None and selected_meshed() is not None
 
     def Activated(self):
-        from .quality import show_histogram
-        show_histogram(selected_meshed())
+        FreeCADGui.addModule("oraclemesh_fc.quality")
+        FreeCADGui.doCommandGui("oraclemesh_fc.quality.show_histogram(%s)"
+                                % object_expression(selected_meshed()))
 
 
 COMMANDS = {

@@ -262,6 +262,22 @@ def parse_size_entry(text, where):
 EXTRA_EDGE_CHORD_ERROR = 1e-3
 
 
+def extra_edge_links(items):
+    """ExtraEdges (PropertyLinkSubList) value of extra edges given as objects or (object,
+    sub-names): what extra_edge_items reads back.
+
+    A whole object goes in bare: FreeCAD drops an (object, ()) pair with no sub-names."""
+    links = []
+    for item in items:
+        if isinstance(item, (tuple, list)):
+            obj, subs = item[0], item[1] if len(item) > 1 else ()
+            subs = [subs] if isinstance(subs, str) else [s for s in subs if s]
+            links.extend([(obj, s) for s in subs] if subs else [obj])
+        else:
+            links.append(item)
+    return links
+
+
 def extra_edge_items(mesh_obj):
     """[(name for the user, Part.Edge in global coordinates)] of the mesh object's ExtraEdges,
     in property order: each picked 'EdgeN', and every edge of a whole linked object (a

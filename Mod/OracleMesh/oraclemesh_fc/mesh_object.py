@@ -5,6 +5,7 @@ angle, extra edges); execute() builds the job from the linked shapes, runs the c
 with the result, one volume group per material (see job.volume_groups). On any error the
 previous FemMesh stays as it was, the error is printed to the report view (and shown in a
 message box in the GUI) and execute() raises, so FreeCAD marks the object as failed.
+Objects are made by factory.makeMesh.
 """
 import json
 
@@ -12,6 +13,7 @@ import FreeCAD
 
 from .handoff import build_femmesh, feature_edge_mid_nodes
 from .job import build_job, input_kinds, name_polylines
+from .proxy import StatelessProxy
 from .runner import import_core, run_job
 
 # The job's "engine" values; the first is the default of new mesh objects. Rule Set T is the
@@ -97,7 +99,7 @@ READ_ONLY = ("Status", "Report", "InputKinds")
 HIDDEN = ("FeatureEdges", "FeatureEdgeMidNodes")
 
 
-class OracleMeshProxy:
+class OracleMeshProxy(StatelessProxy):
     """Proxy of the mesh object. Stateless: everything lives in the object's properties."""
 
     Type = TYPE
@@ -176,16 +178,6 @@ class OracleMeshProxy:
             ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
                       for g in femmesh.Groups))
 
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    # FreeCAD >= 0.21 prefers dumps/loads; keep both so documents round-trip everywhere.
-    dumps = __getstate__
-    loads = __setstate__
-
 
 def is_cancel(error):
     try:
@@ -206,87 +198,3 @@ def show_error(message):
     import FreeCADGui
 
     QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "OracleMesh", message)
-
-
-# makeMesh keyword -> property. Sizes accept numbers in model units (mm).
-OPTION_PROPERTIES = {
-    "cell_size": "CellSize",
-    "cell_radius_edge_ratio": "CellRadiusEdgeRatio",
-    "facet_size": "FacetSize",
-    "facet_distance": "FacetDistance",
-    "facet_angle": "FacetAngle",
-    "edge_size": "EdgeSize",
-    "element_order": "ElementOrder",
-    "sharp_angle": "SharpAngle",
-    "optimize": "Optimize",
-    "seed": "Seed",
-    "max_vertices": "MaxVertices",
-    "time_limit": "TimeLimit",
-    "junctions": "Junctions",
-    "planar_faces": "PlanarFaces",
-    "engine": "Engine",
-}
-
-
-def extra_edge_links(items):
-    """PropertyLinkSubList value of extra edges given as objects or (object, sub-names).
-
-    A whole object goes in bare: FreeCAD drops an (object, ()) pair with no sub-names."""
-    links = []
-    for item in items:
-        if isinstance(item, (tuple, list)):
-            obj, subs = item[0], item[1] if len(item) > 1 else ()
-            subs = [subs] if isinstance(subs, str) else [s for s in subs if s]
-            links.extend([(obj, s) for s in subs] if subs else [obj])
-        else:
-            links.append(item)
-    return links
-
-
-def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
-    """Make an OracleMesh mesh object (not recomputed; call doc.recompute()).
-
-    inputs: solids, compounds of solids or Mesh objects, highest priority first. cuts: regions removed from every input.
-    analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
-    job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
-    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
-    and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
-    engine ("thesis", the default, or "cgal"), optimize, seed, max_vertices, time_limit,
-    material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
-    ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
-    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
-    """
-    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges"}
-    unknown = sorted(set(job_options) - known)
-    if unknown:
-        raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
-                        % (", ".join(unknown), ", ".join(sorted(known))))
-
-    obj = doc.addObject("Fem::FemMeshObjectPython", name)
-    OracleMeshProxy(obj)
-    if FreeCAD.GuiUp:
-        from .view_provider import ViewProviderOracleMesh
-        ViewProviderOracleMesh(obj.ViewObject)
-
-    obj.Inputs = list(inputs)
-    obj.Cuts = list(cuts)
-    for key, prop in OPTION_PROPERTIES.items():
-        if key in job_options:
-            value = job_options[key]
-            if key == "sharp_angle" and value in (None, False):
-                value = 0.0
-            setattr(obj, prop, value)
-    sizes = {}
-    for key, value in (job_options.get("material_sizes") or {}).items():
-        key = key if isinstance(key, str) else key.Name
-        if isinstance(value, dict):
-            value = " ".join("%s=%r" % (k, float(v)) for k, v in value.items())
-        sizes[key] = str(value)
-    obj.InputSizes = sizes
-    output = job_options.get("output") or {}
-    obj.OutputFiles = [str(f) for f in output.get("files", [])]
-    obj.OutputReport = str(output.get("report", ""))
-    obj.ExtraEdges = extra_edge_links(job_options.get("extra_edges") or ())
-    if analysis is not None:
-        analysis.addObject(obj)
-    return obj

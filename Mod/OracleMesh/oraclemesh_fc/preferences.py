@@ -1,6 +1,7 @@
 """OracleMesh defaults (Edit > Preferences > OracleMesh): size preset, engine, element order,
-sharp-edge angle. New mesh objects made by the command start from them; makeMesh (the macro
-API) does not read them, so a macro gives the same mesh on every machine.
+sharp-edge angle. New mesh objects made by the command start from them (mesh_options, written
+into the command's makeMesh call); makeMesh (the macro API) does not read them, so a macro
+gives the same mesh on every machine.
 """
 import FreeCAD
 
@@ -55,14 +56,19 @@ def preset_cell_size(preset, inputs):
     return round(box.DiagonalLength / divisor, 3)
 
 
-def apply_defaults(obj):
-    """Set a new mesh object's options from the preferences."""
+def mesh_options(inputs):
+    """makeMesh options of a new mesh object of the given inputs, from the preferences.
+
+    The command writes them out as values in its recorded makeMesh call, so the macro makes
+    the same object whatever the preferences of the machine that replays it."""
     d = defaults()
+    options = {}
     if d["Engine"] in [e for e, _, works in ENGINES if works]:
-        obj.Engine = d["Engine"]
-    obj.ElementOrder = min(max(int(d["ElementOrder"]), 1), 2)
-    obj.SharpAngle = float(d["SharpAngle"])
-    obj.CellSize = preset_cell_size(d["Preset"], obj.Inputs)
+        options["engine"] = d["Engine"]
+    options["element_order"] = min(max(int(d["ElementOrder"]), 1), 2)
+    options["sharp_angle"] = float(d["SharpAngle"])
+    options["cell_size"] = preset_cell_size(d["Preset"], inputs)
+    return options
 
 
 class PreferencePage:

@@ -1,4 +1,5 @@
-"""The OracleMesh task panel (opened by the command and by double-clicking the mesh object).
+"""The OracleMesh task panel, shown by the view provider in edit mode (after the mesh command,
+on double click, from the Edit command).
 
 Everything it shows lives in the mesh object's properties; the panel edits a copy and writes
 it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object as it was.
@@ -17,12 +18,13 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
 """
 import json
 
-import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
 from . import job as jobmod
 from . import preferences
+from .input_checks import input_warnings
+from .selection import selected_solids
 
 # Criteria table columns: (job key, header)
 CRITERIA_COLUMNS = (
@@ -156,8 +158,7 @@ class TaskPanel:
         o.PlanarFaces = self.planar_faces.isChecked()
         o.ElementOrder = self.element_order.currentData()
         o.Optimize = self.optimize.isChecked()
-        from .mesh_object import extra_edge_links
-        o.ExtraEdges = extra_edge_links(self.extra_edges)
+        o.ExtraEdges = jobmod.extra_edge_links(self.extra_edges)
 
     # ------------------------------------------------------------------ widgets
 
@@ -374,7 +375,6 @@ class TaskPanel:
         self.select_row(j)
 
     def add_selected(self):
-        from .commands import selected_solids
         self.read_tables()
         present = {r.obj.Name for r in self.rows}
         for obj in selected_solids():
@@ -513,7 +513,6 @@ def report_html(obj):
                     q.get("min_dihedral_deg", float("nan")), q.get("max_dihedral_deg", float("nan")),
                     q.get("max_radius_edge_ratio", float("nan"))))
     warnings = list(report.get("warnings", []))
-    from .input_checks import input_warnings
     warnings += input_warnings(obj)
     if warnings:
         parts.append("<p><b>Warnings</b></p><ul>%s</ul>"
@@ -523,9 +522,3 @@ def report_html(obj):
         total = sum(v for k, v in seconds.items() if not k.startswith("mesh3_"))
         parts.append("<p>%.1f s</p>" % total)
     return "".join(parts)
-
-
-def open_panel(mesh_obj):
-    """Open the task panel of mesh_obj through FreeCAD's edit mode (as a double click does)."""
-    FreeCADGui.getDocument(mesh_obj.Document.Name).setEdit(mesh_obj.Name, 0)
-    return current

@@ -1,12 +1,16 @@
 """View provider of the OracleMesh object (GUI only): icon, the mesh coloured by material with
-its feature edges (display.py), and the task panel on double click / Edit (task_panel.py)."""
+its feature edges (display.py), and the task panel (task_panel.py) in edit mode (setEdit):
+entered by the commands' recorded FreeCADGui.ActiveDocument.setEdit lines, and by double
+click and the context menu through open_panel."""
 import FreeCAD
 import FreeCADGui
 
 from . import display
+from .icons import icon_path
+from .proxy import StatelessProxy
 
 
-class ViewProviderOracleMesh:
+class ViewProviderOracleMesh(StatelessProxy):
 
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -33,7 +37,6 @@ class ViewProviderOracleMesh:
             FreeCAD.Console.PrintLog("OracleMesh: colouring skipped: %s\n" % e)
 
     def getIcon(self):
-        from . import icon_path
         return icon_path("OracleMesh_Mesh.svg")
 
     def setEdit(self, vobj, mode=0):
@@ -55,7 +58,7 @@ class ViewProviderOracleMesh:
                 "OracleMesh: close the open task dialog first, then edit '%s'\n"
                 % vobj.Object.Label)
             return True
-        FreeCADGui.getDocument(vobj.Object.Document).setEdit(vobj.Object.Name, 0)
+        open_panel(vobj.Object)
         return True
 
     def setupContextMenu(self, vobj, menu):
@@ -64,11 +67,10 @@ class ViewProviderOracleMesh:
         action.triggered.connect(lambda: self.doubleClicked(vobj))
         menu.addAction(action)
 
-    def __getstate__(self):
-        return None
 
-    def __setstate__(self, state):
-        return None
-
-    dumps = __getstate__
-    loads = __setstate__
+def open_panel(mesh_obj):
+    """Open the task panel of mesh_obj through FreeCAD's edit mode (as a double click does);
+    returns the panel."""
+    from . import task_panel
+    FreeCADGui.getDocument(mesh_obj.Document.Name).setEdit(mesh_obj.Name, 0)
+    return task_panel.current

@@ -9,6 +9,8 @@
   errors    a bad per-material size (the core refuses it) and a forced segfault of the core
             (ORACLEMESH_WORKER_CRASH): an error is shown, the document is unchanged
   reopen    double click opens the panel again; the histogram and export commands run
+  record    the lines the mesh command wrote to the console (= the macro recorder), replayed
+            on a new demo document, make the same mesh object
 
 Writes what it measured as JSON to $OMFC_RESULT; the pytest side (test_gui.py) judges it.
 The trail of steps goes to $OMFC_RESULT.steps, so a GUI crash shows where it happened.
@@ -56,6 +58,26 @@ def mesh_state(mesh_obj):
     return {"nodes": fm.NodeCount, "volumes": fm.VolumeCount,
             "groups": {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups},
             "feature_edges": len(mesh_obj.FeatureEdges) // 2}
+
+
+def mesh_settings(mesh_obj):
+    """What a new mesh object is made of: its links by name and the options the command sets."""
+    return {"inputs": [o.Name for o in mesh_obj.Inputs], "cuts": [o.Name for o in mesh_obj.Cuts],
+            "analysis": [o.Name for o in mesh_obj.InList if o.isDerivedFrom("Fem::FemAnalysis")],
+            "engine": mesh_obj.Engine, "element_order": mesh_obj.ElementOrder,
+            "sharp_angle": mesh_obj.SharpAngle.Value, "cell_size": mesh_obj.CellSize.Value}
+
+
+def console_lines():
+    """Statements in FreeCAD's Python console, prompts stripped; None without a console. The
+    empty prompt at the end is left out: the next statement is written into its line."""
+    import FreeCADGui
+    from PySide import QtGui
+    console = FreeCADGui.getMainWindow().findChild(QtGui.QPlainTextEdit, "Python console")
+    if console is None:
+        return None
+    return [line[4:] for line in console.toPlainText().splitlines()
+            if line.startswith(">>> ") and line[4:].strip()]
 
 
 def document_state(doc):
@@ -138,14 +160,21 @@ def check(out):
     doc.recompute()
 
     step("command opens the task panel")
+    # The console shows what the macro recorder records (FreeCAD's MacroManager writes every
+    # doCommand line to both); on, whatever the user's preference.
+    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Macro").SetBool("ScriptToPyConsole", True)
+    console_before = console_lines()
     FreeCADGui.Selection.clearSelection()
     FreeCADGui.Selection.addSelection(pin)
     FreeCADGui.Selection.addSelection(plate)
     FreeCADGui.runCommand("OracleMesh_MeshSelection")
     pump()
+    out["console_found"] = console_before is not None
+    out["recorded"] = (console_lines() or [])[len(console_before or []):]
     panel = task_panel.current
     out["panel_open"] = panel is not None and FreeCADGui.Control.activeDialog()
     mesh = panel.obj
+    out["command_mesh"] = mesh_settings(mesh)
     out["mesh_in_analysis"] = mesh in analysis.Group
     out["panel_rows"] = [r.obj.Name for r in panel.rows]
     out["panel_materials"] = [r.material for r in panel.rows]
@@ -404,6 +433,21 @@ def check(out):
     out["final"] = mesh_state(mesh)
     out["final_volumes"] = group_volumes(mesh)
     doc.saveAs(os.path.join(workdir, "gui_demo.FCStd"))
+
+    step("replay the recorded lines in a new demo document")
+    replay = FreeCAD.newDocument("Replay")
+    demo.build(replay)
+    replay.recompute()
+    FreeCAD.setActiveDocument(replay.Name)
+    namespace = {"FreeCAD": FreeCAD}
+    # The document lines: not the GUI's (views, selection, edit mode; FreeCAD's own included).
+    replayed = [line for line in out["recorded"] if not line.startswith("#")
+                and "Gui." not in line and "ViewObject" not in line]
+    for line in replayed:
+        exec(line, namespace)
+    out["replayed"] = replayed
+    out["replayed_mesh"] = mesh_settings(namespace["oracle_mesh"]) \
+        if "oracle_mesh" in namespace else None
     step("done")
 
 

@@ -1,0 +1,80 @@
+"""Makes OracleMesh mesh objects: makeMesh, the API of macros and scripts (and of the GUI
+command, which writes its call into the macro recorder), also `from oraclemesh_fc import
+makeMesh`.
+
+The object itself (properties, recompute) is mesh_object.py; its view provider, attached
+here when the GUI is up, is view_provider.py.
+"""
+import FreeCAD
+
+from .job import extra_edge_links
+from .mesh_object import OracleMeshProxy
+
+
+# makeMesh keyword -> property. Sizes accept numbers in model units (mm).
+OPTION_PROPERTIES = {
+    "cell_size": "CellSize",
+    "cell_radius_edge_ratio": "CellRadiusEdgeRatio",
+    "facet_size": "FacetSize",
+    "facet_distance": "FacetDistance",
+    "facet_angle": "FacetAngle",
+    "edge_size": "EdgeSize",
+    "element_order": "ElementOrder",
+    "sharp_angle": "SharpAngle",
+    "optimize": "Optimize",
+    "seed": "Seed",
+    "max_vertices": "MaxVertices",
+    "time_limit": "TimeLimit",
+    "junctions": "Junctions",
+    "planar_faces": "PlanarFaces",
+    "engine": "Engine",
+}
+
+
+def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_options):
+    """Make an OracleMesh mesh object (not recomputed; call doc.recompute()).
+
+    inputs: solids, compounds of solids or Mesh objects, highest priority first. cuts: regions removed from every input.
+    analysis: a FEM analysis to add the mesh to (its FEM materials name the volume groups).
+    job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
+    edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
+    and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
+    engine ("thesis", the default, or "cgal"), optimize, seed, max_vertices, time_limit,
+    material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
+    ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
+    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
+    """
+    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges"}
+    unknown = sorted(set(job_options) - known)
+    if unknown:
+        raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
+                        % (", ".join(unknown), ", ".join(sorted(known))))
+
+    obj = doc.addObject("Fem::FemMeshObjectPython", name)
+    OracleMeshProxy(obj)
+    if FreeCAD.GuiUp:
+        from .view_provider import ViewProviderOracleMesh
+        ViewProviderOracleMesh(obj.ViewObject)
+
+    obj.Inputs = list(inputs)
+    obj.Cuts = list(cuts)
+    for key, prop in OPTION_PROPERTIES.items():
+        if key in job_options:
+            value = job_options[key]
+            if key == "sharp_angle" and value in (None, False):
+                value = 0.0
+            setattr(obj, prop, value)
+    sizes = {}
+    for key, value in (job_options.get("material_sizes") or {}).items():
+        key = key if isinstance(key, str) else key.Name
+        if isinstance(value, dict):
+            value = " ".join("%s=%r" % (k, float(v)) for k, v in value.items())
+        sizes[key] = str(value)
+    obj.InputSizes = sizes
+    output = job_options.get("output") or {}
+    obj.OutputFiles = [str(f) for f in output.get("files", [])]
+    obj.OutputReport = str(output.get("report", ""))
+    obj.ExtraEdges = extra_edge_links(job_options.get("extra_edges") or ())
+    if analysis is not None:
+        analysis.addObject(obj)
+    return obj
