@@ -44,9 +44,9 @@ def collect(jobs):
     if isinstance(jobs, (str, os.PathLike, dict)):
         jobs = [jobs]
     cases, options = [], {}
-    for item in jobs:
-        if isinstance(item, dict):
-            found, opts = _from_object(item, os.getcwd(), "<job %d>" % (len(cases) + 1), "job")
+    for number, item in enumerate(jobs):
+        if isinstance(item, dict):  # named by its place among the jobs
+            found, opts = _from_object(item, os.getcwd(), "job-%d" % (number + 1))
         else:
             path = os.path.abspath(os.fspath(item))
             if os.path.isdir(path):

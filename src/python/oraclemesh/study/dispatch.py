@@ -2,7 +2,8 @@
 
 Each case is one Dask task (execute.run_case) that meshes in a child process, so a crash of
 the core ends the child only. A task lost with its worker process (killed, out of memory)
-comes back as an error from Dask and is submitted again, at most `attempts` times in all.
+comes back as an error from Dask and is submitted again: a case may start `attempts` times
+in all (a case lost while still queued on the dead worker did not start, and does not count).
 On the local cluster the scheduler allows no failure itself (allowed-failures 0), so every
 loss is seen and counted here; an existing scheduler may first retry on its own
 (its distributed.scheduler.allowed-failures, 3 by default).
@@ -23,6 +24,8 @@ from .cases import input_files
 SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": 0,
                     "distributed.scheduler.worker-saturation": 1.0}
 POLL_SECONDS = 0.2
+# Times a case lost before it started (queued on a worker that died) may be sent again.
+UNSTARTED_RESUBMITS = 10
 
 
 def local_cluster(workers=None):
@@ -100,30 +103,41 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
                 mapping[paths[0]] = "%d/%s" % (k, os.path.basename(paths[0]))
         return files, mapping
 
-    def submit(case, attempt):
+    tries = {}  # case name -> [submissions, submissions that started]
+
+    def submit(case, number):
         files, mapping = files_of(case)
-        task = {"name": case.name, "job": case.job, "environment": case.environment,
+        # One key prefix for all cases: Dask groups tasks by it, and a large group is queued
+        # on the scheduler (worker-saturation) instead of on the workers.
+        key = "oraclemesh_case-%s-%d-%d" % (token, number, tries[case.name][0])
+        task = {"name": case.name, "key": key, "job": case.job, "environment": case.environment,
                 "grace": grace, "shipped": mapping}
-        return client.submit(execute.run_case, task, files, key="oraclemesh-%s-%s-%d" % (case.name, token, attempt),
-                             pure=False, retries=1)
+        tries[case.name][0] += 1
+        return client.submit(execute.run_case, task, files, key=key, pure=False, retries=1)
 
     pending = {}
-    for case in cases:
-        pending[submit(case, 1)] = (case, 1)
+    for number, case in enumerate(cases):
+        tries[case.name] = [0, 0]
+        pending[submit(case, number)] = (case, number)
     running, last_poll = 0, 0.0
     while pending:
         for future in [f for f in pending if f.done()]:
-            case, attempt = pending.pop(future)
+            case, number = pending.pop(future)
+            count = tries[case.name]
             record = None
             if future.status == "finished":
                 record = future.result()
-            elif attempt < attempts:
-                pending[submit(case, attempt + 1)] = (case, attempt + 1)
+                count[1] += 1
             else:
-                record = lost_record(case, attempt, _error_text(future))
+                # A case queued on a lost worker did not start: sent again without counting.
+                count[1] += future.key in started_keys(client)
+                if count[1] < attempts and count[0] < attempts + UNSTARTED_RESUBMITS:
+                    pending[submit(case, number)] = (case, number)
+                else:
+                    record = lost_record(case, count[1], _error_text(future))
             future.release()
             if record is not None:
-                row = results.row_of(case, record, attempt)
+                row = results.row_of(case, record, count[1])
                 results.store(out, case, record, row)
                 on_row(row)
         now = time.time()
@@ -132,6 +146,14 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
             last_poll = now
         bar(running)
         time.sleep(POLL_SECONDS)
+
+
+def started_keys(client):
+    """Keys of the case tasks that began on a worker (execute.run_case announces each)."""
+    try:
+        return {msg.get("key") for _, msg in client.get_events(execute.STARTED_TOPIC)}
+    except Exception:
+        return set()
 
 
 def _running(client, pending):

@@ -26,11 +26,16 @@ def deadline_of(job, grace):
     return (limit if isinstance(limit, (int, float)) and limit > 0 else DEFAULT_TIME_LIMIT) + grace
 
 
+# Event topic on which each case tells the scheduler that it began (dispatch counts attempts).
+STARTED_TOPIC = "oraclemesh-case-started"
+
+
 def run_case(task, files=None):
     """task: {"name", "job", "environment", "grace", "shipped": {input path: file key}};
     files: {file key: bytes} when the inputs travel with the task (paths no worker sees);
     a key is "<input number>/<name>", detached data files sit beside their header."""
     started = time.time()
+    _announce(task)
     record = {"name": task["name"], "status": "failed", "error_type": "", "error": "",
               "phase": "", "report": None, "outputs": {}, "host": socket.gethostname(),
               "worker": _worker_address()}
@@ -91,12 +96,23 @@ def _with_shipped_inputs(job, shipped, files, folder):
     return job
 
 
-def _worker_address():
+def _worker():
     try:
         from distributed import get_worker
-        return get_worker().address
+        return get_worker()
     except (ImportError, ValueError):
-        return ""
+        return None  # called outside a Dask worker
+
+
+def _worker_address():
+    worker = _worker()
+    return worker.address if worker else ""
+
+
+def _announce(task):
+    worker = _worker()
+    if worker is not None and task.get("key"):
+        worker.log_event(STARTED_TOPIC, {"key": task["key"], "case": task["name"]})
 
 
 def check_worker(paths):
