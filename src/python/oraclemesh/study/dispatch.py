@@ -142,7 +142,8 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
                 on_row(row)
         now = time.time()
         if now - last_poll >= 1.0:
-            running = _running(client, pending)
+            started = started_keys(client)
+            running = sum(1 for f in pending if f.key in started)
             last_poll = now
         bar(running)
         time.sleep(POLL_SECONDS)
@@ -154,14 +155,6 @@ def started_keys(client):
         return {msg.get("key") for _, msg in client.get_events(execute.STARTED_TOPIC)}
     except Exception:
         return set()
-
-
-def _running(client, pending):
-    keys = {f.key for f in pending}
-    try:
-        return sum(1 for ks in client.processing().values() for k in ks if k in keys)
-    except Exception:
-        return 0
 
 
 def _error_text(future):

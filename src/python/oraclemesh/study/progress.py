@@ -20,7 +20,7 @@ class ProgressBar:
         self.width, self.every = width, every
         self.started = time.time()
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.last_counts, self.last_time = None, 0.0
+        self.printed, self.last_time = None, 0.0  # the counts last written, and when
 
     def text(self, ok, failed, running):
         """ok and failed include the reused cases; the estimate is from this run's cases."""
@@ -45,14 +45,14 @@ class ProgressBar:
         if self.tty:
             self.stream.write("\r" + self.text(ok, failed, running) + "\033[K")
             self.stream.flush()
-        elif force or (counts != self.last_counts and now - self.last_time >= self.every):
+        elif force or (counts != self.printed and now - self.last_time >= self.every):
             self.stream.write(self.text(ok, failed, running) + "\n")
             self.stream.flush()
-            self.last_time = now
-        self.last_counts = counts
+            self.printed, self.last_time = counts, now
 
     def close(self, ok, failed):
-        self.update(ok, failed, 0, force=not self.tty)
+        if self.tty or self.printed != (ok, failed, 0):
+            self.update(ok, failed, 0, force=True)
         if self.tty:
             self.stream.write("\n")
             self.stream.flush()
