@@ -19,8 +19,9 @@ from . import execute, results
 from .cases import input_files
 
 # The batch's own scheduler settings: every lost worker is reported to the batch (which
-# bounds the retries), and a worker holds only the case it runs (with the default 1.1 a
-# single-threaded worker would also hold a second, queued case, lost with it).
+# bounds the retries), and in a study of more than twice as many cases as worker threads
+# (a task group Dask queues on the scheduler) a worker holds only the case it runs; with
+# the default 1.1 a single-threaded worker would also hold a queued case, lost with it.
 SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": 0,
                     "distributed.scheduler.worker-saturation": 1.0}
 POLL_SECONDS = 0.2

@@ -19,6 +19,7 @@ def write_plots(out, rows, group_by=None, x=None):
     try:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
+        from matplotlib.ticker import MaxNLocator
     except ImportError:
         return []
     ok = [r for r in rows if r["status"] == "ok"]
@@ -40,7 +41,10 @@ def write_plots(out, rows, group_by=None, x=None):
         failed = len(rows) - len(ok)
         axes.set_xlabel(x if numeric_x else "case (in order, per group)")
         axes.set_ylabel(label)
-        axes.set_title("%s per case%s" % (label, ", %d failed case(s) not shown" % failed if failed else ""))
+        axes.set_title("%s per %s%s" % (label, x if numeric_x else "case",
+                                        ", %d failed case(s) not shown" % failed if failed else ""))
+        if not numeric_x or all(isinstance(r[x], int) for r in ok):
+            axes.xaxis.set_major_locator(MaxNLocator(integer=True))
         axes.grid(True, alpha=0.3)
         if group_by:
             axes.legend(title=group_by)
