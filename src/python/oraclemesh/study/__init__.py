@@ -41,9 +41,10 @@ Output, written as each case finishes:
   output.files and output.report (file names only: every case writes into its own folder);
   DIR/results.csv, results.json (rows, summary, study), summary.csv; at the end tets.png and
   min_dihedral.png (one series per group_by value).
-Columns: case, status (ok / failed), error_type (InputError, LimitError, Crash, Timeout,
-WorkerLost, MissingInput, InternalError), error (the message), phase (where a failed case
-stopped), one column per study parameter (and level "columns"), tets, tets_material_<id>,
+Columns: case, status (ok / failed), error_type (InputError: bad job or input; LimitError;
+Error: the core stopped with a message; Crash: its process died; Timeout; WorkerLost;
+MissingInput; InternalError: a bug of the batch), error (the message), phase (where a
+failed case stopped), one column per study parameter (and level "columns"), tets, tets_material_<id>,
 vertices, boundary_triangles, feature_edges, min_dihedral_deg, max_dihedral_deg, volume,
 volume_material_<id>, seconds_<phase> (the report's), warnings (count), seconds (the case's
 wall time on its worker), attempts, reused, worker, hash, source (job or study file).
