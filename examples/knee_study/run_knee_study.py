@@ -2,7 +2,7 @@
 without constrained segments on a Dask cluster, and the thesis' table.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/knee_study/run_knee_study.py
-        [--cases N] [--workers N | --scheduler ADDRESS] [--out DIR] [--seed S]
+        [--cases N] [--workers N | --scheduler ADDRESS] [--out DIR] [--seed S] [--time-limit S]
 
 --cases N: the first N of the 100 variants (2N cases). The variants and study.json are
 written first (make_knee_study.py, FreeCAD's Part module); the batch (oraclemesh.batch)
@@ -58,6 +58,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cases", type=int, default=100, help="variants to mesh (default 100)")
     parser.add_argument("--seed", type=int, default=2013)
+    parser.add_argument("--time-limit", type=int, default=600,
+                        help="limits.time_limit of every case, seconds (default 600; part of the cases' hash)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, help="local cluster of N workers (default: one per core)")
     where.add_argument("--scheduler", help="an existing Dask scheduler address")
@@ -67,7 +69,7 @@ def main():
 
     sys.path.insert(0, HERE)
     import make_knee_study  # FreeCAD's Part: imported here, not where Dask's workers import this file
-    study = make_knee_study.main(args.cases, args.seed)
+    study = make_knee_study.main(args.cases, args.seed, time_limit=args.time_limit)
     oraclemesh = import_oraclemesh()
     started = time.time()
     result = oraclemesh.batch([study], out=args.out, workers=args.workers, scheduler=args.scheduler,
