@@ -294,17 +294,20 @@ def _nrrd_data_files(path):
     return []
 
 
-def file_digest(path, cache={}):
-    """SHA-256 of a file's bytes (cached per path, size and modification time)."""
+_DIGESTS = {}  # (path, size, mtime) -> SHA-256: a study reads the same inputs for every case
+
+
+def file_digest(path):
+    """SHA-256 of a file's bytes."""
     st = os.stat(path)
     key = (path, st.st_size, st.st_mtime_ns)
-    if key not in cache:
+    if key not in _DIGESTS:
         h = hashlib.sha256()
         with open(path, "rb") as f:
             for block in iter(lambda: f.read(1 << 20), b""):
                 h.update(block)
-        cache[key] = h.hexdigest()
-    return cache[key]
+        _DIGESTS[key] = h.hexdigest()
+    return _DIGESTS[key]
 
 
 def case_hash(job, environment):
