@@ -18,8 +18,10 @@ packages=(
   freecad calculix-ccx
   # peers for comparisons and benchmarks; examples/implant_in_bone/measure.py (KD-tree)
   gmsh tetgen python3-scipy
-  # GUI tests (workbench under a virtual display)
+  # GUI tests (workbench under a virtual display); matplotlib also draws the batch plots
   xvfb xauth python3-matplotlib
+  # batch studies (oraclemesh batch) run on Dask
+  python3-distributed
 )
 
 missing=()

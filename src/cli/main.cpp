@@ -1,22 +1,33 @@
 // `oraclemesh JOB.json`: runs a job file, progress on stderr, a one-screen summary on stdout.
+// `oraclemesh batch ...`: many jobs on a Dask cluster (BatchCommand.h).
 // Exit codes: 0 done, 2 bad job or input, 3 limit reached or cancelled, 1 anything else.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "BatchCommand.h"
 #include "Error.h"
 #include "job/Pipeline.h"
 
 namespace {
 
-int usage() {
+int usage(const char* argv0) {
+  const oraclemesh::cli::BatchPython python = oraclemesh::cli::findBatchPython(argv0);
   std::cerr << "usage: oraclemesh JOB.json\n"
                "  Meshes the inputs of the job file (see README.md, 'The job contract') and writes\n"
                "  the files listed in output.files and output.report. Relative paths in the job are\n"
                "  relative to the job file's folder.\n"
                "  \"engine\": \"thesis\" (default; Rule Set T, constrained sharp edges) or \"cgal\"\n"
-               "  (CGAL Mesh_3 with protecting balls).\n";
+               "  (CGAL Mesh_3 with protecting balls).\n"
+               "usage: oraclemesh batch JOBS... --out DIR [--workers N | --scheduler ADDRESS] [...]\n"
+               "  Meshes many jobs (job files, folders of them, study files) on a Dask cluster, a\n"
+               "  local one by default, into DIR/results.csv and DIR/results.json; `oraclemesh batch\n"
+               "  --help` lists the options. Runs `"
+            << python.python << " -m oraclemesh.study` with "
+            << (python.packageParent.empty() ? std::string("its own sys.path (no build python/ folder found)")
+                                             : python.packageParent + " first on PYTHONPATH")
+            << "\n  (found next to this executable; ORACLEMESH_PYTHONPATH and ORACLEMESH_PYTHON override).\n";
   return 2;
 }
 
@@ -34,7 +45,8 @@ void printSummary(const nlohmann::json& report) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help") return usage();
+  if (argc >= 2 && std::string(argv[1]) == "batch") return oraclemesh::cli::runBatch(argv[0], argc - 2, argv + 2);
+  if (argc != 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help") return usage(argv[0]);
   const std::string jobPath = argv[1];
   try {
     std::ifstream in(jobPath);

@@ -20,7 +20,7 @@ from . import _core
 from ._core import Cancelled, Error, InputError, LimitError
 from .images import with_image_files
 
-__all__ = ["run", "run_isolated", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
+__all__ = ["run", "run_isolated", "batch", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
 __version__ = _core.version()
 
 
@@ -101,14 +101,15 @@ def run(job, progress=None, base_directory=None):
         return Result(_core.run(text, base, progress))
 
 
-def run_isolated(job, progress=None, base_directory=None, cancel=None):
+def run_isolated(job, progress=None, base_directory=None, cancel=None, environment=None):
     """Like run(), but the core runs in a child Python process (oraclemesh.worker).
 
     A crash of the native core then raises oraclemesh.Error here instead of ending the
     caller's process (FreeCAD), and cancelling (progress returning False) ends the child at
     once. cancel: an optional threading.Event; setting it (from any thread) ends the child
     within 0.1 s even in phases that report no progress (sliver perturbation, exudation).
-    Costs a process start and a copy of the result arrays.
+    environment: extra variables for the child only (a batch case's test hooks, see
+    oraclemesh.worker). Costs a process start and a copy of the result arrays.
     """
     if not isinstance(job, (str, os.PathLike)):
         bad = _first_non_finite(job, "")
@@ -128,6 +129,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None):
         package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
             [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+        env.update(environment or {})
         env["ORACLEMESH_WORKER_PARENT"] = str(os.getpid())  # worker.PARENT_VARIABLE
         # The module is built for the system interpreter; inside FreeCAD sys.executable is
         # FreeCAD itself, so the interpreter is found from the running Python's prefix.
@@ -174,6 +176,14 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None):
         raise Error("the OracleMesh core crashed on this job (its process %s); the calling "
                     "program is unaffected. Please report it with the job and this output:\n%s"
                     % (how, stderr[-2000:]))
+
+
+def batch(jobs, client=None, **options):
+    """Runs many jobs on a Dask cluster and returns an oraclemesh.study.BatchResult (one row
+    per case, summary, plots): see oraclemesh.study for the jobs, options and outputs.
+    client: a dask.distributed.Client; default a local cluster, one worker per core."""
+    from .study import batch as run_batch  # Dask is imported only by batches
+    return run_batch(jobs, client=client, **options)
 
 
 def _array_as_list(value):

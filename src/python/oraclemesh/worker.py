@@ -9,11 +9,14 @@ OpenCASCADE) ends this process, not FreeCAD. Speaks to the parent through:
 Test hook: ORACLEMESH_WORKER_CRASH=<phase> makes this process die of a real segmentation
 fault when the core first reports that phase, so callers (FreeCAD tests) can check that a
 crash of the native code becomes an error message in the parent.
+ORACLEMESH_WORKER_HANG=<phase> makes it stop there for good instead (a core stuck where it
+reports no progress), so callers can check that their own deadline ends it (oraclemesh.study).
 """
 import ctypes
 import os
 import json
 import sys
+import time
 
 import numpy as np
 
@@ -42,11 +45,14 @@ def die_with_parent():
 def main(job_path, result_path):
     die_with_parent()
     crash_phase = os.environ.get("ORACLEMESH_WORKER_CRASH")
+    hang_phase = os.environ.get("ORACLEMESH_WORKER_HANG")
 
     def progress(phase, fraction):
         if phase == crash_phase:
             sys.stdout.flush()
             ctypes.string_at(0)  # reads address 0: SIGSEGV, as a bug in CGAL would
+        while phase == hang_phase:
+            time.sleep(3600)  # the core's own time limit cannot fire while this blocks
         sys.stdout.write("progress %.6f %s\n" % (fraction, phase))
         sys.stdout.flush()
 
