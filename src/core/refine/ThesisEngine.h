@@ -1,7 +1,7 @@
 #pragma once
-// The thesis' refiner (Rule Set T = Rule Set Q + Rule Set S++, thesis §3.3) behind a plain
-// interface: no CGAL type crosses this header, so only ThesisEngine.cpp pays for the
-// Delaunay triangulation templates.
+// The thesis' refiner (Rule Set T = Rule Set Q + Rule Set S++, thesis §3.3.1) behind a plain
+// interface: no CGAL type crosses this header, so only refine/'s own files (those that
+// include RuleSetTRefiner.h) pay for the Delaunay triangulation templates.
 #include <cstdint>
 #include <functional>
 #include <map>
