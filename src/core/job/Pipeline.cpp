@@ -645,7 +645,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     // engine's own vertex moves) left none under that bound it would only scan the mesh;
     // skipping it also skips rebuilding the Mesh_3 complex (implant_in_bone (a): 0.7 s of a
     // 2.6 s job).
-    const bool slivers_left = stats.insertions.count("left_slivers") && stats.insertions.at("left_slivers") > 0;
+    const bool slivers_left = stats.slivers_left_total > 0;
     if (job.perturb && slivers_left) {
       control.report("sliver removal", 0);
       Mesh3Options sliverRemoval = mesh3Options(job, criteria);
@@ -684,6 +684,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
       slivers.push_back({{"reason", e.reason}, {"location", e.location}, {"material", e.material},
                          {"min_dihedral_deg", e.value}});
     engineReport = {{"rule_insertions", stats.insertions},
+                    {"vertex_moves", stats.vertex_moves},
+                    {"encroachment_refusals", stats.encroachment_refusals},
                     {"star_vertices", stats.star_vertices},
                     {"constrained_subsegments", stats.constrained_subsegments},
                     {"final_check",
@@ -691,7 +693,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                       {"encroached_subsegments", stats.encroached_subsegments},
                       {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
                     {"elements_left", left},
-                    {"slivers_left", slivers}};
+                    {"elements_left_total", stats.elements_left_total},
+                    {"slivers_left", slivers},
+                    {"slivers_left_total", stats.slivers_left_total}};
     if (job.planar_faces) {
       engineReport["planar_faces"] = planarFacesJson(stats.planar, skippedPlanarFaces, oracle);
       if (stats.planar.missing > 0)
@@ -699,7 +703,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                            " triangle(s) of planar faces are not mesh facets (see report.thesis.planar_faces)");
     }
     if (!stats.left.empty())
-      warnings.push_back(std::to_string(stats.insertions["left_elements"]) +
+      warnings.push_back(std::to_string(stats.elements_left_total) +
                          " element(s) still violate their criteria (see report.thesis.elements_left for where and "
                          "why; small input angles are the usual cause)");
   } else {

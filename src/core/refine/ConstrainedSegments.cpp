@@ -202,7 +202,7 @@ bool RuleSetTRefiner::encroachmentTerminatorRefuses(int index) {
   // Kept out of the final sweep for encroached subsegments; an insertion that takes its
   // edge away queues it again (commit), and then it is split.
   if (std::find(unsplittable_.begin(), unsplittable_.end(), index) == unsplittable_.end()) unsplittable_.push_back(index);
-  ++stats_.insertions["T1.2 left encroached"];  // refusals (a subsegment may be refused again)
+  ++stats_.encroachment_refusals;  // a subsegment may be refused again
   return true;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Dihedral-angle measures of rule S and of rule P (beyond the thesis), on plain
+// Dihedral-angle measures of the sliver rule and of rule P (beyond the thesis), on plain
 // points. Both measure many candidate cells and only compare the results, so the cheap forms
 // come first and Quality's six exact angles last.
 #include <algorithm>

@@ -17,7 +17,7 @@ std::vector<RuleSetTRefiner::LabelledCell> RuleSetTRefiner::labelledCellsInOutpu
   std::vector<LabelledCell> cells;
   for (auto c = dt_.finite_cells_begin(); c != dt_.finite_cells_end(); ++c)
     if (c->info().label > 0) cells.push_back({{c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)}, c->info().label});
-  if (stats_.insertions.count("P") == 0) return cells;
+  if (stats_.vertex_moves == 0) return cells;
   auto id = [](VH v) { return v->info().id; };
   for (LabelledCell& cell : cells) {
     std::array<VH, 4>& corners = cell.corners;
@@ -121,7 +121,7 @@ void RuleSetTRefiner::listLeftElements() {
   std::stable_sort(left.begin(), left.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   stats_.left.clear();
   for (auto& [bad, element] : left) stats_.left.push_back(std::move(element));
-  stats_.insertions["left_elements"] = static_cast<int64_t>(left.size());
+  stats_.elements_left_total = static_cast<int64_t>(left.size());
   if (stats_.left.size() > kListed) stats_.left.resize(kListed);
 }
 

@@ -7,7 +7,7 @@
 //   PlanarFaceLayer.cpp      TP   planar faces (thesis §4.1), a layer behind RefinementHook
 //   RestrictedFacets.cpp     T2   restricted facets and their surface Delaunay balls
 //   Cells.cpp                T3   cells inside the materials
-//   SliverRule.cpp           rule S, slivers (beyond the thesis)
+//   SliverRule.cpp           the sliver rule (beyond the thesis)
 //   VertexMoves.cpp          rule P, vertex moves (beyond the thesis)
 //   Insertion.cpp            the insertion core every level inserts through
 //   InitialPoints.cpp        the initial point set
@@ -247,7 +247,7 @@ class RuleSetTRefiner {
   Point3 refinementPoint(CH c, bool atCircumcentre) const;
   bool refineOneCell();
 
-  // ------------------------------------------------------------ rule S (SliverRule.cpp)
+  // ----------------------------------------------------- the sliver rule (SliverRule.cpp)
   static double minDihedralDeg(CH c);
   bool isSliver(CH c) const;
   double newStarMinDihedral(const Zone& zone) const;

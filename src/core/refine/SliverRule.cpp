@@ -1,14 +1,17 @@
-// Rule S, beyond the thesis. Rule Set T bounds radius-edge ratios, which slivers meet. Once
-// T1-T3 have converged, rule S gives each cell inside the materials whose smallest dihedral
-// angle is under options_.sliver_dihedral_deg a point near its circumcentre: the best of a
-// few seeded points in the ball of radius kSliverPickRadius x circumradius around it, judged
-// by the smallest dihedral angle of the cells the point would make (random point placement,
-// Chew 1997, Li & Teng 2001; S.4). Points in that ball lie inside the sliver's circumsphere,
-// so any of them destroys the sliver. A candidate that encroaches a subsegment or lies in a
-// surface Delaunay ball is not inserted; when no candidate qualifies, the circumcentre is
-// redirected as in T3 (S.1 splits the subsegment it encroaches, S.2 the one its surface ball
-// centre encroaches, S.3 inserts that ball centre) so segments and restricted facets keep
-// their guarantees. Each round gives every sliver one try and T1-T3 then repair what the
+// The sliver rule, beyond the thesis (it is none of the thesis' Rule Sets Q, R, S and T, and
+// its steps are named "sliver.*" so that they do not read as the thesis' S1-S3). Rule Set T
+// bounds radius-edge ratios, which slivers meet. Once T1-T3 have converged, the sliver rule
+// gives each cell inside the materials whose smallest dihedral angle is under
+// options_.sliver_dihedral_deg a point near its circumcentre: the best of a few seeded points
+// in the ball of radius kSliverPickRadius x circumradius around it, judged by the smallest
+// dihedral angle of the cells the point would make (random point placement, Chew 1997, Li &
+// Teng 2001; step "sliver.near_centre"). Points in that ball lie inside the sliver's
+// circumsphere, so any of them destroys the sliver. A candidate that encroaches a subsegment
+// or lies in a surface Delaunay ball is not inserted; when no candidate qualifies, the
+// circumcentre is redirected as in T3 ("sliver.segment" splits the subsegment it encroaches
+// as T3.1, "sliver.ball_segment" the one its surface ball centre encroaches as T3.2,
+// "sliver.ball_centre" inserts that ball centre as T3.3) so segments and restricted facets
+// keep their guarantees. Each round gives every sliver one try and T1-T3 then repair what the
 // insertions broke; after kSliverRounds the slivers left are listed.
 #include <algorithm>
 #include <cmath>
@@ -31,7 +34,7 @@ double RuleSetTRefiner::minDihedralDeg(CH c) {
                                 toPoint3(c->vertex(2)->point()), toPoint3(c->vertex(3)->point()));
 }
 
-// Rule S scans every cell each round. Most are far from the bound, and the cosine of
+// The sliver rule scans every cell each round. Most are far from the bound, and the cosine of
 // the smallest angle (no trig) settles those; only cells near or under it get Quality's six
 // exact angles, so which cells count as slivers does not change.
 bool RuleSetTRefiner::isSliver(CH c) const {
@@ -71,7 +74,7 @@ double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
   return worst;
 }
 
-// Whether rule S leaves subsegment s unsplit (the terminator's conditions of T3).
+// Whether the sliver rule leaves subsegment s unsplit (the terminator's conditions of T3).
 bool RuleSetTRefiner::sliverRefusesSplit(int s, uint64_t stamp, const char* rule) {
   if (nearSmallAngle(segments_[s])) {
     leave("cell", std::string(rule) + " would split a subsegment next to an input angle under 60 degrees", stamp, -1);
@@ -84,7 +87,7 @@ bool RuleSetTRefiner::sliverRefusesSplit(int s, uint64_t stamp, const char* rule
   return false;
 }
 
-// One try of rule S on sliver c; true when a point went in.
+// One try of the sliver rule on sliver c; true when a point went in.
 bool RuleSetTRefiner::refineSliver(CH c, std::mt19937& random) {
   const uint64_t stamp = c->info().stamp;
   const Point3 centre = c->info().circumcentre;
@@ -110,7 +113,7 @@ bool RuleSetTRefiner::refineSliver(CH c, std::mt19937& random) {
   }
   if (found) {
     commit(best, 3, -1);
-    ++stats_.insertions["S.4"];
+    ++stats_.insertions["sliver.near_centre"];
     return true;
   }
   // No free candidate: the circumcentre goes where T3 would send it.
@@ -120,8 +123,8 @@ bool RuleSetTRefiner::refineSliver(CH c, std::mt19937& random) {
     return false;
   }
   if (zone.encroached >= 0) {
-    if (sliverRefusesSplit(zone.encroached, stamp, "S.1")) return false;
-    if (splitEncroached(zone.encroached, "S.1")) return true;
+    if (sliverRefusesSplit(zone.encroached, stamp, "sliver.segment")) return false;
+    if (splitEncroached(zone.encroached, "sliver.segment")) return true;
     leave("cell", "sliver: the subsegment its circumcentre encroaches cannot be split", stamp, -1);
     return false;
   }
@@ -130,15 +133,15 @@ bool RuleSetTRefiner::refineSliver(CH c, std::mt19937& random) {
   if (surfaceBallContaining(zone, ballCentre, &ballEntry)) {
     const Zone surface = examine(ballCentre, c);
     if (!surface.duplicate && surface.encroached >= 0) {
-      if (sliverRefusesSplit(surface.encroached, stamp, "S.2")) return false;
-      if (splitEncroached(surface.encroached, "S.2")) return true;
+      if (sliverRefusesSplit(surface.encroached, stamp, "sliver.ball_segment")) return false;
+      if (splitEncroached(surface.encroached, "sliver.ball_segment")) return true;
     } else if (!surface.duplicate && surface.insertionRadius >= terminatorLength_ &&
                newStarMinDihedral(surface) > minDihedralDeg(c)) {
       // Only a ball centre whose new cells are better and meet T3's criteria: unlike T3.3,
-      // S.3 is not needed for the guarantees, and under a strict radius-edge bound (1.1
+      // this step is not needed for the guarantees, and under a strict radius-edge bound (1.1
       // on implant_in_bone) a surface point that T3 must repair starts a cascade (3x the tets).
       commit(surface, 2, -1, ballEntry);
-      ++stats_.insertions["S.3"];
+      ++stats_.insertions["sliver.ball_centre"];
       return true;
     }
     leave("cell", "sliver: the surface ball centre its circumcentre maps to makes no better cells", stamp, -1);
@@ -177,8 +180,8 @@ void RuleSetTRefiner::refineSlivers() {
   }
 }
 
-// Cells inside the materials still under the sliver bound, with the reason rule S left
-// them (perturbation, which runs next, works on them).
+// Cells inside the materials still under the sliver bound, with the reason the sliver rule
+// left them (perturbation, which runs next, works on them).
 void RuleSetTRefiner::listLeftSlivers() {
   if (options_.sliver_dihedral_deg <= 0) return;
   constexpr size_t kListed = 200;  // the worst ones; the count is complete
@@ -193,7 +196,7 @@ void RuleSetTRefiner::listLeftSlivers() {
     left.push_back({angle, {"cell", reason.str(), c->info().circumcentre, c->info().label, angle}});
   }
   std::stable_sort(left.begin(), left.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  stats_.insertions["left_slivers"] = static_cast<int64_t>(left.size());
+  stats_.slivers_left_total = static_cast<int64_t>(left.size());
   stats_.slivers_left.clear();
   for (size_t k = 0; k < left.size() && k < kListed; ++k) stats_.slivers_left.push_back(std::move(left[k].second));
 }

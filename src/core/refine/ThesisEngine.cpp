@@ -5,7 +5,7 @@
 //   TP  planar faces, when the job asks for them (PlanarFaceLayer.cpp, through RefinementHook)
 //   T2  restricted facets (RestrictedFacets.cpp)
 //   T3  cells inside the materials (Cells.cpp)
-// Beyond the thesis, once T1-T3 have converged: rule S, slivers (SliverRule.cpp) and rule P,
+// Beyond the thesis, once T1-T3 have converged: the sliver rule (SliverRule.cpp) and rule P,
 // vertex moves (VertexMoves.cpp). RuleSetTRefiner.h lists the other files.
 #include "refine/ThesisEngine.h"
 

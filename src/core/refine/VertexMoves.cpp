@@ -1,5 +1,5 @@
-// Rule P, vertex moves, beyond the thesis (counted as "P" among the insertions, though it
-// inserts nothing). Rule S leaves slivers whose circumcentre maps to a surface ball centre that makes no better
+// Rule P, vertex moves, beyond the thesis (none of its rule sets has a rule P). The sliver
+// rule leaves slivers whose circumcentre maps to a surface ball centre that makes no better
 // cells (implant_in_bone (a): about 400 of them). Moving one of a sliver's corners
 // instead, as CGAL's perturb_mesh_3 does, lifts most of them without new points; doing it
 // here, on the engine's own triangulation, spares the pipeline rebuilding a Mesh_3 complex
@@ -357,7 +357,7 @@ bool RuleSetTRefiner::perturbSliver(CH c, std::mt19937& random, int effort, std:
     if (tryVertexMove(m.vertex, target, made)) {
       // An undone move leaves v where it was, with the entry it had.
       m.vertex->info().boundaryEntry = targetEntry;
-      ++stats_.insertions["P"];
+      ++stats_.vertex_moves;
       return true;
     }
   }
