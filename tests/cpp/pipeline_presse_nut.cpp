@@ -45,7 +45,7 @@ TEST(PresseNutThesis, TangentCurvesAndContactWedgeLeaveFewElements) {
   EXPECT_NEAR(contact, 30, 6) << result.report.at("small_input_angles").dump();
 
   // Every subsegment is a mesh edge; few elements are left.
-  const int64_t left = thesis.at("rule_insertions").at("left_elements").get<int64_t>();
+  const int64_t left = thesis.at("elements_left_total").get<int64_t>();
   std::cout << "[ figures  ] " << result.mesh.tets.size() << " tets, " << left << " elements left, final check "
             << thesis.at("final_check").dump() << ", seconds " << result.report.at("seconds").dump() << "\n";
   EXPECT_EQ(thesis.at("final_check").at("subsegments_not_edges").get<int64_t>(), 0);

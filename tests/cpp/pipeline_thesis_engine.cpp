@@ -101,7 +101,7 @@ void expectCellsMeetCriteriaOrAreListed(const JobResult& r, const std::map<int, 
     unexplained += !near;
   }
   // The listing keeps the worst 200: beyond that, the count must cover the rest.
-  const int64_t listedCount = r.report.at("thesis").at("rule_insertions").value("left_elements", 0);
+  const int64_t listedCount = r.report.at("thesis").at("elements_left_total").get<int64_t>();
   EXPECT_TRUE(unexplained == 0 || listedCount > 200) << unexplained << " cells fail their criteria unlisted";
 }
 
@@ -314,7 +314,7 @@ TEST(ThesisEngine, TangentJointsOfARoundedTrayAreNotStarVertices) {
                {{"default",
                  {{"cell_size", 1.5}, {"facet_size", 1.5}, {"facet_distance", facetDistance}, {"edge_size", edgeSize}}}}},
               {"engine", "thesis"},
-              // Rule Set T alone: rule S (sliver removal) may split subsegments as well, which
+              // Rule Set T alone: the sliver rule (sliver removal) may split subsegments as well, which
               // is not what this test is about.
               {"optimize", {{"perturb", false}, {"exude", false}}},
               {"element_order", 1},
@@ -336,7 +336,7 @@ TEST(ThesisEngine, TangentJointsOfARoundedTrayAreNotStarVertices) {
   EXPECT_NEAR(test::volumePerMaterial(r.mesh).at(1), exact, 0.005 * exact);
 }
 
-// Rule Set T bounds radius-edge ratios, not dihedral angles: sliver removal (rule S in the
+// Rule Set T bounds radius-edge ratios, not dihedral angles: sliver removal (the sliver rule in the
 // engine, then CGAL's perturbation) must lift the worst dihedral angle of the final, snapped
 // mesh to 12 degrees (issue 7) and keep every constrained subsegment and the boundary.
 TEST(ThesisEngine, SliverRemovalReachesTwelveDegreesKeepingSegments) {
@@ -346,12 +346,13 @@ TEST(ThesisEngine, SliverRemovalReachesTwelveDegreesKeepingSegments) {
   const double after = optimized.report["quality"]["min_dihedral_deg"].get<double>();
   EXPECT_GE(after, 12.0) << "sliver removal did not reach 12 degrees (from " << before << ")";
   const json& thesis = optimized.report.at("thesis");
-  EXPECT_GT(thesis.at("rule_insertions").value("S.4", 0), 0) << "rule S did not act";
-  EXPECT_EQ(raw.report.at("thesis").at("rule_insertions").value("S.4", 0), 0) << "rule S runs without optimize";
-  // Rule P moves corners of the slivers rule S left; the final checks below hold after it.
-  EXPECT_GT(thesis.at("rule_insertions").value("P", 0), 0) << "rule P moved no vertex";
-  EXPECT_EQ(raw.report.at("thesis").at("rule_insertions").value("P", 0), 0) << "rule P runs without optimize";
-  // Rule S inserts points, so T1-T3 still hold afterwards, and every subsegment (rule S splits
+  EXPECT_GT(thesis.at("rule_insertions").value("sliver.near_centre", 0), 0) << "the sliver rule did not act";
+  EXPECT_EQ(raw.report.at("thesis").at("rule_insertions").value("sliver.near_centre", 0), 0)
+      << "the sliver rule runs without optimize";
+  // Rule P moves corners of the slivers the sliver rule left; the final checks below hold after it.
+  EXPECT_GT(thesis.at("vertex_moves").get<int64_t>(), 0) << "rule P moved no vertex";
+  EXPECT_EQ(raw.report.at("thesis").at("vertex_moves").get<int64_t>(), 0) << "rule P runs without optimize";
+  // The sliver rule inserts points, so T1-T3 still hold afterwards, and every subsegment (it splits
   // some) is a mesh edge of the final mesh.
   EXPECT_EQ(thesis.at("final_check").at("subsegments_not_edges"), 0);
   EXPECT_EQ(thesis.at("final_check").at("encroached_subsegments"), 0);
@@ -367,7 +368,7 @@ TEST(ThesisEngine, SliverRemovalReachesTwelveDegreesKeepingSegments) {
   EXPECT_EQ(c.open_boundary_edges, 0);
   EXPECT_EQ(c.inverted, 0);
   std::cout << "[figures] thesis demo sliver removal: min dihedral " << before << " -> " << after << " deg, tets "
-            << raw.mesh.tets.size() << " -> " << optimized.mesh.tets.size() << ", rule S "
+            << raw.mesh.tets.size() << " -> " << optimized.mesh.tets.size() << ", rules "
             << thesis.at("rule_insertions").dump() << ", seconds " << optimized.report["seconds"].dump() << "\n";
 }
 
@@ -379,8 +380,8 @@ TEST(ThesisEngine, RulePLeavesNoSliverOnTheDemoSoCgalPerturbationIsSkipped) {
   const JobResult& r = thesisDemo(1, true);
   const json& thesis = r.report.at("thesis");
   EXPECT_TRUE(thesis.at("slivers_left").empty()) << thesis.at("slivers_left").dump();
-  EXPECT_EQ(thesis.at("rule_insertions").value("left_slivers", -1), 0);
-  EXPECT_GT(thesis.at("rule_insertions").value("P", 0), 0);
+  EXPECT_EQ(thesis.at("slivers_left_total").get<int64_t>(), 0);
+  EXPECT_GT(thesis.at("vertex_moves").get<int64_t>(), 0);
   const json& seconds = r.report.at("seconds");
   EXPECT_FALSE(seconds.contains("thesis_rebuild_complex")) << seconds.dump();
   EXPECT_FALSE(seconds.contains("sliver_removal")) << seconds.dump();

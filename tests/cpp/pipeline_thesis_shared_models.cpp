@@ -134,8 +134,8 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   for (const auto& e : m.feature_edges) EXPECT_TRUE(tetEdges.count(std::minmax(e[0], e[1]))) << e[0] << "-" << e[1];
   std::cout << "[figures] part.step thesis sharp tet4: " << m.tets.size() << " tets, min dihedral "
             << quality.at("min_dihedral_deg") << ", under 10 degrees "
-            << quality.at("min_dihedral_histogram_10deg").at(0) << ", slivers rule S left "
-            << thesis.at("rule_insertions").value("left_slivers", 0) << ", volume " << meshed << " vs B-rep "
+            << quality.at("min_dihedral_histogram_10deg").at(0) << ", slivers left "
+            << thesis.at("slivers_left_total").get<int64_t>() << ", volume " << meshed << " vs B-rep "
             << brepVolume << "\n";
 }
 

@@ -70,6 +70,8 @@ json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>
     slivers.push_back({{"reason", e.reason}, {"location", e.location}, {"material", e.material},
                        {"min_dihedral_deg", e.value}});
   json engineReport = {{"rule_insertions", stats.insertions},
+                       {"vertex_moves", stats.vertex_moves},
+                       {"encroachment_refusals", stats.encroachment_refusals},
                        {"star_vertices", stats.star_vertices},
                        {"constrained_subsegments", stats.constrained_subsegments},
                        {"final_check",
@@ -77,7 +79,9 @@ json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>
                          {"encroached_subsegments", stats.encroached_subsegments},
                          {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
                        {"elements_left", left},
-                       {"slivers_left", slivers}};
+                       {"elements_left_total", stats.elements_left_total},
+                       {"slivers_left", slivers},
+                       {"slivers_left_total", stats.slivers_left_total}};
   if (thesis.planar_faces)
     engineReport["planar_faces"] = planarFacesJson(stats.planar, thesis.skipped_planar_faces, inputs);
   return engineReport;

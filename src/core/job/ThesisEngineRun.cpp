@@ -52,12 +52,12 @@ std::string writePartialMesh(const JobSpec& job, TetMesh& partial) {
   return written.empty() ? "" : " (the mesh so far, " + std::to_string(partial.tets.size()) + " tets, is in " + written + ")";
 }
 
-// The dihedral angle the thesis engine's sliver removal (rule S, then perturbation) aims for:
+// The dihedral angle the thesis engine's sliver removal (the sliver rule, then perturbation) aims for:
 // 5 degrees above optimize.sliver_bound. The perturber stops as soon as every tet clears its
 // bound, and slight moves after it (vertices it left off the faces going back in the snap)
 // may cost a little; with the margin the final mesh clears the job's bound (default 10: demo
 // assembly and implant_in_bone 15 degrees). Rule S aims as high as perturbation: below it,
-// the perturber spends seconds on lifting what rule S left (demo: 20 s instead of 0.3 s).
+// the perturber spends seconds on lifting what the sliver rule left (demo: 20 s instead of 0.3 s).
 double thesisSliverBound(const JobSpec& job) {
   constexpr double kMarginDeg = 5, kMaxDeg = 69;  // below the regular tetrahedron's 70.5
   return std::min(job.sliver_bound + kMarginDeg, kMaxDeg);
@@ -92,7 +92,7 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
       if (pl.edge == a.edge && pl.source >= 0 && oracle.entries()[pl.source].source->name() == a.input)
         options.small_angle_curves.push_back(pl.curve);
   }
-  // Sliver removal (optimize.perturb) starts in the engine: rule S, after T1-T3, lifts the
+  // Sliver removal (optimize.perturb) starts in the engine: the sliver rule, after T1-T3, lifts the
   // slivers perturbation cannot (next to segment vertices, which it keeps fixed: on the demo
   // assembly perturbation alone stops at 3.6 degrees).
   options.sliver_dihedral_deg = job.perturb ? thesisSliverBound(job) : 0;
@@ -119,7 +119,7 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
   // engine's own vertex moves) left none under that bound it would only scan the mesh;
   // skipping it also skips rebuilding the Mesh_3 complex (implant_in_bone (a): 0.7 s of a
   // 2.6 s job).
-  const bool slivers_left = stats.insertions.count("left_slivers") && stats.insertions.at("left_slivers") > 0;
+  const bool slivers_left = stats.slivers_left_total > 0;
   if (job.perturb && slivers_left) {
     control.report("sliver removal", 0);
     Mesh3Options sliverRemoval = mesh3Options(job, criteria);
@@ -143,8 +143,8 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
     if (dropped > 0) {
       result.mesh = std::move(beforePerturbation);
       warnings.push_back("CGAL's sliver perturbation took " + std::to_string(dropped) +
-                         " constrained subsegment(s) out of the mesh, so the mesh before it is kept (slivers rule S "
-                         "and P left stay: see report.thesis.slivers_left)");
+                         " constrained subsegment(s) out of the mesh, so the mesh before it is kept (slivers the sliver rule "
+                         "and rule P left stay: see report.thesis.slivers_left)");
     }
     clock.finish("sliver_removal");
   }
@@ -153,7 +153,7 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
     warnings.push_back(std::to_string(stats.planar.missing) +
                        " triangle(s) of planar faces are not mesh facets (see report.thesis.planar_faces)");
   if (!stats.left.empty())
-    warnings.push_back(std::to_string(stats.insertions["left_elements"]) +
+    warnings.push_back(std::to_string(stats.elements_left_total) +
                        " element(s) still violate their criteria (see report.thesis.elements_left for where and "
                        "why; small input angles are the usual cause)");
   result.report.thesis = ThesisEngineReport{std::move(stats), job.planar_faces, std::move(skippedPlanarFaces)};

@@ -1,7 +1,7 @@
 #pragma once
-// The thesis' refiner (Rule Set T = Rule Set Q + Rule Set S++, thesis §3.3) behind a plain
-// interface: no CGAL type crosses this header, so only ThesisEngine.cpp pays for the
-// Delaunay triangulation templates.
+// The thesis' refiner (Rule Set T = Rule Set Q + Rule Set S++, thesis §3.3.1) behind a plain
+// interface: no CGAL type crosses this header, so only refine/'s own files (those that
+// include RuleSetTRefiner.h) pay for the Delaunay triangulation templates.
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -31,9 +31,9 @@ struct RuleSetTOptions {
   // Planar faces whose triangles are recovered as 3D facets (features.planar_faces; empty =
   // off). Their borders must be constrained segments of `features` (findPlanarFaces).
   std::vector<PlanarFace> planar_faces;
-  // Beyond the thesis: once T1-T3 have converged, rule S inserts points near cells with a
-  // dihedral angle below this bound in degrees (slivers, which the radius-edge bound lets
-  // through); 0 = off.
+  // Beyond the thesis: once T1-T3 have converged, the sliver rule inserts points near cells
+  // with a dihedral angle below this bound in degrees (slivers, which the radius-edge bound
+  // lets through), and rule P then moves vertices of those left; 0 = off.
   double sliver_dihedral_deg = 0;
   // The point of feature curve `curve` nearest to p (empty = segment vertices lie on the
   // polylines' chords). Inner polyline points and T1 splits go onto the curves with it, so
@@ -71,13 +71,21 @@ struct LeftElement {
 
 struct RuleSetTStatistics {
   std::map<std::string, double> seconds;     // per phase
-  std::map<std::string, int64_t> insertions;  // per rule: T1.1, T1.2, T1.shell, T2.1, T2.2, T3.1 ...
+  // Points inserted, per rule: T1.1, T1.2, "T1.2 shell", T2.1, T2.2, T3.1-T3.4, TP.1, TP.2 and
+  // the sliver rule's sliver.near_centre, sliver.segment, sliver.ball_segment, sliver.ball_centre.
+  std::map<std::string, int64_t> insertions;
+  int64_t vertex_moves = 0;           // rule P's moves (they insert nothing)
+  int64_t encroachment_refusals = 0;  // times the T1.2 terminator left a subsegment encroached
+                                      // (a subsegment may be refused more than once)
   int64_t initial_points = 0;
   int64_t star_vertices = 0;
   int64_t constrained_subsegments = 0;        // at the end
-  std::vector<LeftElement> left;
-  // Cells rule S left under options.sliver_dihedral_deg (value: the smallest dihedral angle).
+  std::vector<LeftElement> left;  // the worst 200 elements left
+  int64_t elements_left_total = 0;  // all of them
+  // Cells the sliver rule and rule P left under options.sliver_dihedral_deg (value: the
+  // smallest dihedral angle): the worst 200, and the count of all.
   std::vector<LeftElement> slivers_left;
+  int64_t slivers_left_total = 0;
   // Checked once at the end, by other means than the refinement uses (nearest-vertex
   // queries): subsegments that are not Delaunay edges or have a vertex in their diametral
   // ball, restricted facets with a vertex off the boundary. All zero unless elements are left.

@@ -1,0 +1,84 @@
+#include "refine/FacetCriteria.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace oraclemesh::refine {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+// The kernel's own constructions, as the refiner's triangulation uses them, so the measures
+// round the same way there and here.
+K::Point_3 kernelPoint(const Point3& p) { return K::Point_3(p[0], p[1], p[2]); }
+
+}  // namespace
+
+double FacetSizeCriterion::ballRadius(const FacetShape& f) {
+  return std::sqrt(CGAL::squared_distance(kernelPoint(f.ballCentre), kernelPoint(f.corners[0])));
+}
+
+double FacetDistanceCriterion::distance(const FacetShape& f) {
+  const K::Point_3 fc =
+      CGAL::circumcenter(kernelPoint(f.corners[0]), kernelPoint(f.corners[1]), kernelPoint(f.corners[2]));
+  return std::sqrt(CGAL::squared_distance(fc, kernelPoint(f.ballCentre)));
+}
+
+double FacetAngleCriterion::smallestAngleDeg(const FacetShape& f) {
+  double minAngle = 180;
+  for (int k = 0; k < 3; ++k) {
+    const K::Vector_3 e1 = kernelPoint(f.corners[(k + 1) % 3]) - kernelPoint(f.corners[k]);
+    const K::Vector_3 e2 = kernelPoint(f.corners[(k + 2) % 3]) - kernelPoint(f.corners[k]);
+    const double cosine = CGAL::scalar_product(e1, e2) / std::sqrt(e1.squared_length() * e2.squared_length());
+    minAngle = std::min(minAngle, std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / M_PI);
+  }
+  return minAngle;
+}
+
+bool FacetAngleCriterion::applies() const { return bound > 0 && std::isfinite(bound); }
+
+double FacetCriteria::bound(const FacetShape& f, double MaterialCriteria::*field) const {
+  double bound = std::numeric_limits<double>::infinity();
+  for (int m : {f.labelA, f.labelB})
+    if (m > 0) bound = std::min(bound, table_.of(m).*field);
+  return bound;
+}
+
+FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
+  FacetVerdict v;
+  if (FacetOnBoundaryCriterion().fails(f)) {
+    v.badness = FacetOnBoundaryCriterion::kExcess;
+    v.reason = "a vertex not on the boundary";
+    return v;
+  }
+  double worst = 0;
+  const double r = FacetSizeCriterion::ballRadius(f);
+  const FacetSizeCriterion size{bound(f, &MaterialCriteria::facet_size)};
+  if (size.fails(r)) {
+    worst = r / size.bound;
+    v.reason = "surface Delaunay ball radius above facet_size";
+  }
+  const FacetDistanceCriterion distance{bound(f, &MaterialCriteria::facet_distance)};
+  if (distance.bound > 0) {
+    const double d = FacetDistanceCriterion::distance(f);
+    if (d > distance.bound && d / distance.bound > worst) {
+      worst = d / distance.bound;
+      v.reason = "facet distance above facet_distance";
+    }
+  }
+  const FacetAngleCriterion angle{std::min(bound(f, &MaterialCriteria::facet_angle), FacetAngleCriterion::kCap)};
+  if (withAngle && angle.applies()) {
+    const double minAngle = FacetAngleCriterion::smallestAngleDeg(f);
+    if (minAngle < angle.bound && angle.bound / std::max(minAngle, 1e-9) > worst) {
+      worst = angle.bound / std::max(minAngle, 1e-9);
+      v.reason = "facet angle below facet_angle";
+    }
+  }
+  v.badness = worst > 1 ? worst : 0;
+  return v;
+}
+
+}  // namespace oraclemesh::refine

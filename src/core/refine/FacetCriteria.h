@@ -1,0 +1,69 @@
+#pragma once
+// The facet criteria of Rule Set T's T2 (thesis §3.3.1: a restricted facet without its three
+// vertices on the boundary, or whose surface Delaunay ball is too big), as Mesh_3 reads the
+// job's criteria (facet_size, facet_distance, facet_angle), as small objects on plain points:
+// no triangulation is needed to test them. A facet between two materials meets the
+// strictest bound of the two; label 0 (outside) sets none.
+#include <array>
+
+#include "Geometry.h"
+#include "MeshCriteria.h"
+
+namespace oraclemesh::refine {
+
+// What the facet criteria look at: a restricted facet and its surface Delaunay ball.
+struct FacetShape {
+  std::array<Point3, 3> corners{};  // in the triangulation's order
+  Point3 ballCentre{};              // where the facet's dual edge crosses the boundary
+  int labelA = 0, labelB = 0;       // the materials on the two sides of that crossing
+  bool cornersOnBoundary = true;    // false when a corner is an interior (or infinite) vertex
+};
+
+// The facet's three vertices must lie on the boundary (T2's first premise).
+struct FacetOnBoundaryCriterion {
+  static constexpr double kExcess = 1e6;  // its badness: before any facet too big
+  bool fails(const FacetShape& f) const { return !f.cornersOnBoundary; }
+};
+
+// Surface Delaunay ball radius above facet_size.
+struct FacetSizeCriterion {
+  double bound = 0;  // infinity when neither side has a bound
+  static double ballRadius(const FacetShape& f);
+  bool fails(double radius) const { return bound > 0 && radius > bound; }
+};
+
+// Distance from the facet's circumcentre to its ball centre above facet_distance.
+struct FacetDistanceCriterion {
+  double bound = 0;
+  static double distance(const FacetShape& f);
+};
+
+// Smallest facet angle below facet_angle in degrees. Mesh_3 caps the bound at 30 degrees,
+// where surface refinement still terminates.
+struct FacetAngleCriterion {
+  static constexpr double kCap = 30;
+  double bound = 0;  // already capped
+  static double smallestAngleDeg(const FacetShape& f);
+  bool applies() const;
+};
+
+struct FacetVerdict {
+  double badness = 0;       // how far beyond the worst failing criterion (> 1); 0 = good
+  const char* reason = "";  // the criterion that set badness
+};
+
+class FacetCriteria {
+ public:
+  explicit FacetCriteria(const CriteriaTable& table) : table_(table) {}
+  // withAngle = false leaves facet_angle out (the refiner's terminator asks whether a facet
+  // fails for its angle alone).
+  FacetVerdict judge(const FacetShape& f, bool withAngle = true) const;
+
+  // The smallest bound over the positive materials on either side (infinity: none).
+  double bound(const FacetShape& f, double MaterialCriteria::*field) const;
+
+ private:
+  const CriteriaTable& table_;
+};
+
+}  // namespace oraclemesh::refine
