@@ -22,14 +22,13 @@
 #include <numeric>
 
 #include "Error.h"
+#include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
 // Sharp when the faces' normals differ by more than the threshold anywhere along the edge:
 // a fillet that runs out tangentially at one end is still sharp where it is not tangent.

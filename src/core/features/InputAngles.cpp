@@ -20,6 +20,7 @@
 
 #include "Error.h"
 #include "domain/BrepSolid.h"
+#include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CurveSampling.h"
 
@@ -29,7 +30,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 double degrees(double radians) { return radians * 180 / kPi; }
-Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
 // The edge as it is oriented in the face's wire: the face lies on the left of this direction
 // when looking against the outward normal, which tells us which side of the edge is material.

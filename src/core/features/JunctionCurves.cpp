@@ -23,6 +23,7 @@
 
 #include "Error.h"
 #include "domain/BrepSolid.h"
+#include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 
 namespace oraclemesh {
@@ -31,9 +32,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
-gp_Pnt toGp(const Point3& p) { return gp_Pnt(p[0], p[1], p[2]); }
-Point3 toPoint3(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 Point3 normalized(const Point3& v) {
   const double n = norm(v);
   return n > 0 ? (1 / n) * v : v;

@@ -20,6 +20,7 @@
 #include <set>
 
 #include "domain/BrepSolid.h"
+#include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 
 namespace oraclemesh {
@@ -29,8 +30,6 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb>;
 using Delaunay2 = CGAL::Delaunay_triangulation_2<K, Tds>;
-
-Point3 toPoint3(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
 
 // The faces' borders must be constrained segments: the sharp edges of the solid at the
 // job's angle, as the features step extracts them (same function, same threshold).

@@ -1,0 +1,83 @@
+// BrepSolid's loaders: the solids of a file or BREP text as oracle inputs, one per solid or
+// all together, with warnings for the open shells left out.
+#include "domain/BrepSolid.h"
+
+#include <Standard_Failure.hxx>
+
+#include "Error.h"
+#include "domain/brep/ShapeFiles.h"
+#include "domain/brep/SolidChecks.h"
+
+namespace oraclemesh {
+
+namespace {
+
+std::string describe(const std::string& name, const std::string& path) {
+  return "input '" + name + "'" + (path.empty() ? "" : " (file '" + path + "')");
+}
+
+// Errors of the constructor name the input; loaders of files name the file as well, since a
+// user may have several inputs with similar names.
+template <class Action>
+auto namingTheFile(const std::string& name, const std::string& what, Action action) {
+  try {
+    return action();
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    const std::string prefix = "input '" + name + "'";
+    if (message.rfind(prefix, 0) == 0 && what != prefix) message = what + message.substr(prefix.size());
+    throw InputError(message);
+  }
+}
+
+}  // namespace
+
+static TopoDS_Shape readSolidBrepText(const std::string& text, const std::string& name) {
+  return readBrepText(text, "input '" + name + "' (BREP text)", ": pass Shape.exportBrepToString() of a solid");
+}
+
+BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
+                                  const std::string& path) {
+  const std::string what = describe(name, path);
+  Loaded loaded;
+  SolidPieces pieces;
+  try {
+    pieces = solidPieces(shape, what);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +
+                     "): check it with Part > Check geometry and repair it");
+  }
+  for (const std::string& s : pieces.skipped)
+    loaded.warnings.push_back(what + ": " + s + " bounds no volume and was left out; close it (Part > Shape builder) "
+                              "if it should be meshed");
+  if (grouping == Grouping::Together || pieces.solids.size() == 1) {
+    loaded.solids.push_back(namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(compoundOf(pieces.solids), name); }));
+    return loaded;
+  }
+  for (size_t i = 0; i < pieces.solids.size(); ++i) {
+    const std::string solidName = name + "#" + std::to_string(i + 1);
+    loaded.solids.push_back(namingTheFile(solidName, describe(solidName, path),
+                                          [&] { return std::make_shared<BrepSolid>(pieces.solids[i], solidName); }));
+  }
+  return loaded;
+}
+
+BrepSolid::Loaded BrepSolid::loadFile(const std::string& path, const std::string& name, Grouping grouping) {
+  return load(readShapeFile(path, describe(name, path)), name, grouping, path);
+}
+
+BrepSolid::Loaded BrepSolid::loadBrepText(const std::string& text, const std::string& name, Grouping grouping) {
+  return load(readSolidBrepText(text, name), name, grouping);
+}
+
+std::shared_ptr<BrepSolid> BrepSolid::fromFile(const std::string& path, const std::string& name) {
+  const std::string what = describe(name, path);
+  const TopoDS_Shape shape = readShapeFile(path, what);
+  return namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(shape, name); });
+}
+
+std::shared_ptr<BrepSolid> BrepSolid::fromBrepText(const std::string& text, const std::string& name) {
+  return std::make_shared<BrepSolid>(readSolidBrepText(text, name), name);
+}
+
+}  // namespace oraclemesh
