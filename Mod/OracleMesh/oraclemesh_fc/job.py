@@ -1,4 +1,4 @@
-"""From an OracleMesh document object to a job dict (DESIGN.md "The job contract").
+"""From an OracleMesh document object to a job dict (src/README.md, "The job contract").
 
 Priority: `Inputs` are listed highest priority first; where inputs overlap the earlier one
 wins. `Cuts` remove material. A FEM engineer marks a cut region to make a hole, so by default
@@ -14,7 +14,7 @@ FEM material that references it (or the object as a whole). Mesh features (Mesh:
 triangle surfaces (closed, manifold, consistently oriented; their Placement applied).
 
 Material ids are 1, 2, ... in priority order of the material inputs. Volume groups follow the
-hand-off rule of DESIGN.md: `<FemMaterial.Name>_Volumes` when a FEM material of the analysis
+hand-off rule of src/README.md: `<FemMaterial.Name>_Volumes` when a FEM material of the analysis
 references the input object, otherwise `<Input.Label>_Volumes`.
 """
 import math

@@ -1,5 +1,5 @@
 #pragma once
-// Junction curves (DESIGN.md "Features"): where the boundaries of two inputs cross, the
+// Junction curves (src/README.md, "Features"): where the boundaries of two inputs cross, the
 // composite boundary has a crease that belongs to neither input's B-rep edges (the circle
 // where a pin leaves a plate's face, the lines where a cut box cuts a plate's faces). They
 // are the OpenCASCADE sections between the faces of two inputs, kept only where they are a

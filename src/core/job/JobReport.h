@@ -1,7 +1,7 @@
 #pragma once
 // The job report as typed parts, filled by the phases of runJob, and the one place that turns
 // them into the report's JSON (report.json; JobResult::report). The JSON keys are part of the
-// job contract (DESIGN.md), read by the tests, FreeCAD and users' scripts.
+// job contract (src/README.md), read by the tests, FreeCAD and users' scripts.
 #include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>

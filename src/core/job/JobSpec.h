@@ -1,5 +1,5 @@
 #pragma once
-// The job contract (DESIGN.md "The job contract"): what the CLI, Python and FreeCAD all
+// The job contract (src/README.md, "The job contract"): what the CLI, Python and FreeCAD all
 // send. Parsing validates everything a user can get wrong before any geometry is touched.
 #include <nlohmann/json_fwd.hpp>
 

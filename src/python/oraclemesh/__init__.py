@@ -4,7 +4,7 @@
     result = oraclemesh.run({"inputs": [{"name": "pin", "file": "pin.step", "material": 1}]})
     result.points, result.tets, result.tet_materials, result.report
 
-The job dict is the job contract of DESIGN.md (the same JSON the `oraclemesh` CLI reads).
+The job dict is the job contract of src/README.md (the same JSON the `oraclemesh` CLI reads).
 Its "engine" is "thesis" (Rule Set T, the default) or "cgal" (CGAL Mesh_3).
 """
 import json
