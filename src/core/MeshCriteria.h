@@ -1,5 +1,5 @@
 #pragma once
-// Per-material refinement criteria (thesis §2.2; same meaning as CGAL Mesh_3's criteria).
+// Per-material refinement criteria (thesis §2.3.3, Rule Set R; same meaning as CGAL Mesh_3's criteria).
 // Lengths are in model units (mm in FreeCAD).
 #include <algorithm>
 #include <map>
