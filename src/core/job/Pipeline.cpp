@@ -227,7 +227,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   const double sagitta = thesisEngineSagitta(job, table, edgeSize);
   int nextCurve = 0;
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[i].source.get());
+    const auto* solid = oracle.entries()[i].source->brepTopology();
     if (!solid) continue;
     FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta);
     for (FeaturePolyline& pl : g.polylines) {
@@ -306,7 +306,7 @@ BoundaryProjection projectOnCurve(const HierarchicalOracle& oracle, const CurveO
     return {q, -1, distance(p, q)};
   }
   if (origin.entry < 0 || origin.edge < 0) return {};
-  const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[origin.entry].source.get());
+  const auto* solid = oracle.entries()[origin.entry].source->brepTopology();
   if (!solid) return {};
   return solid->projectOnEdge(p, origin.edge);
 }
