@@ -77,5 +77,6 @@ const TopoDS_Face& BrepSolid::face(int index) const { return impl_->faces.at(ind
 const TopoDS_Edge& BrepSolid::edge(int index) const { return impl_->edges.at(index); }
 const std::vector<int>& BrepSolid::facesOfEdge(int edge) const { return impl_->edgeFaces.at(edge); }
 const BrepSolid::ProxyInfo& BrepSolid::proxyInfo() const { return impl_->proxy; }
+const BrepTopology* BrepSolid::brepTopology() const { return this; }
 
 }  // namespace oraclemesh

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "domain/BrepTopology.h"
 #include "domain/Source.h"
 
 namespace oraclemesh {
@@ -17,7 +18,7 @@ namespace oraclemesh {
 // InputError "<what> cannot be read by OpenCASCADE (<reason>)<fix>".
 TopoDS_Shape readBrepText(const std::string& text, const std::string& what, const std::string& fix);
 
-class BrepSolid : public Source {
+class BrepSolid : public Source, public BrepTopology {
  public:
   // How the solids of one file (or BREP text) become oracle inputs: one input per solid in the
   // order the file lists them, named "<name>#1".."<name>#N" (just "<name>" for a single
@@ -65,20 +66,17 @@ class BrepSolid : public Source {
   std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
   double volume() const override;
 
-  // The validated shape: a solid or a compound of solids. Face/edge indices used in
-  // patches and features are 1-based TopExp::MapShapes indices minus one.
-  const TopoDS_Shape& shape() const;
-  // Distance from p to the nearest point of B-rep edge `edge` (0-based), with that point.
-  // `patch` of the result is the first face (0-based) adjacent to the edge.
-  BoundaryProjection projectOnEdge(const Point3& p, int edge) const;
-  int faceCount() const;
-  int edgeCount() const;
-  // Face / edge by 0-based index (TopExp::MapShapes order on shape()).
-  const TopoDS_Face& face(int index) const;
-  const TopoDS_Edge& edge(int index) const;
-  // 0-based indices of the faces adjacent to an edge (one face for a free edge; a seam edge
-  // lists its face once).
-  const std::vector<int>& facesOfEdge(int edge) const;
+  // This solid itself: the faces, edges and shape the feature and planar-face layers read.
+  const BrepTopology* brepTopology() const override;
+
+  // BrepTopology (domain/BrepTopology.h); name() and bbox() above serve both bases.
+  const TopoDS_Shape& shape() const override;
+  BoundaryProjection projectOnEdge(const Point3& p, int edge) const override;
+  int faceCount() const override;
+  int edgeCount() const override;
+  const TopoDS_Face& face(int index) const override;
+  const TopoDS_Edge& edge(int index) const override;
+  const std::vector<int>& facesOfEdge(int edge) const override;
 
   // How the proxy and the exact answers are chosen; exposed for tests and the report.
   struct ProxyInfo {

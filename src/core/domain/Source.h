@@ -9,6 +9,8 @@
 
 namespace oraclemesh {
 
+class BrepTopology;  // domain/BrepTopology.h
+
 // The nearest boundary point of a source and the boundary patch it lies on
 // (B-rep face index, 0-based in TopExp::MapShapes order; 0 for a sphere).
 struct BoundaryProjection {
@@ -52,6 +54,9 @@ class Source {
   virtual std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const;
   // Volume of the source on its own (used for reports and absurd-size checks).
   virtual double volume() const = 0;
+  // The B-rep faces and edges behind this source, for the layers that follow them (sharp
+  // edges, junctions, input angles, planar faces); nullptr for a source that is no B-rep.
+  virtual const BrepTopology* brepTopology() const { return nullptr; }
 };
 
 // The bisection fallback behind Source::crossings, usable by overrides for segments their

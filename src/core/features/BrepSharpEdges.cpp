@@ -60,7 +60,7 @@ constexpr double kNarrowCornerFloor = 1e-4;
 
 // For every sharp edge with an end at a narrow corner, the other sharp edges of that corner.
 // `corner` holds the point of each vertex of `vertexMap` (coincident vertices share one).
-std::map<int, std::vector<int>> narrowCornerNeighbours(const BrepSolid& solid, const std::vector<int>& sharpEdges,
+std::map<int, std::vector<int>> narrowCornerNeighbours(const BrepTopology& solid, const std::vector<int>& sharpEdges,
                                                        const TopTools_IndexedMapOfShape& vertexMap,
                                                        const std::vector<Point3>& corner) {
   struct End {
@@ -127,7 +127,7 @@ bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, do
   return true;
 }
 
-FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
+FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength, double sagittaTolerance) {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("input '" + solid.name() + "': the feature edge size must be a positive number (edge_size), got " +
@@ -253,7 +253,7 @@ class CompositeBoundaryClipper {
   const HierarchicalOracle& oracle_;
   double diagonal_;
   double strictBand_;
-  const BrepSolid* solid_ = nullptr;  // of the polyline being clipped, when it is a B-rep edge
+  const BrepTopology* solid_ = nullptr;  // of the polyline being clipped, when it is a B-rep edge
   int edge_ = -1;
 };
 
@@ -345,7 +345,7 @@ void CompositeBoundaryClipper::clip(const FeaturePolyline& polyline, std::vector
   const int entry = polyline.source;
   const auto& entries = oracle_.entries();
   if (entry < 0 || entry >= static_cast<int>(entries.size()) || polyline.points.size() < 2) return;
-  solid_ = dynamic_cast<const BrepSolid*>(entries[entry].source.get());
+  solid_ = entries[entry].source->brepTopology();
   edge_ = solid_ ? polyline.edge : -1;
   const double duplicate = 1e-9 * diagonal_;  // closer points are the same point
   const double shortest = 1e-6 * diagonal_;   // shorter pieces are dropped

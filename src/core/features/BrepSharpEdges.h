@@ -4,7 +4,7 @@
 #include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
 
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureGraph.h"
 
@@ -21,7 +21,7 @@ namespace oraclemesh {
 // Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
 // sagittaTolerance > 0 replaces featureSagittaTolerance (CurveSampling.h) as the chord bound.
-FeatureGraph extractSharpEdges(const BrepSolid& solid, int sourceIndex, double sharpAngleDeg,
+FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength, double sagittaTolerance = 0);
 
 // Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on

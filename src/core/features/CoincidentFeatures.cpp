@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 
 namespace oraclemesh {
 namespace {
@@ -30,7 +30,7 @@ class SampledCurves {
     const double chord = distanceToPolyline(p, pl);
     if (chord < tol_) return true;
     if (!(curveTol_ > 0) || chord >= curveTol_ + tol_) return false;
-    const BrepSolid* solid = solidOf(pl);
+    const BrepTopology* solid = solidOf(pl);
     if (!solid) return chord < curveTol_;
     return solid->projectOnEdge(p, pl.edge).distance < (exact ? tol_ : curveTol_);
   }
@@ -39,16 +39,16 @@ class SampledCurves {
   bool onExactCurveNear(const Point3& q, const FeaturePolyline& pl, const Point3& a, const Point3& b) const {
     const double chord = distanceToSegment(q, a, b);
     if (chord < tol_) return true;
-    const BrepSolid* solid = solidOf(pl);
+    const BrepTopology* solid = solidOf(pl);
     return curveTol_ > 0 && solid && chord < curveTol_ && solid->projectOnEdge(q, pl.edge).distance < tol_;
   }
 
   double tolerance() const { return tol_; }
 
  private:
-  const BrepSolid* solidOf(const FeaturePolyline& pl) const {
+  const BrepTopology* solidOf(const FeaturePolyline& pl) const {
     if (pl.source < 0 || pl.edge < 0 || pl.source >= static_cast<int>(oracle_.entries().size())) return nullptr;
-    return dynamic_cast<const BrepSolid*>(oracle_.entries()[pl.source].source.get());
+    return oracle_.entries()[pl.source].source->brepTopology();
   }
 
   const HierarchicalOracle& oracle_;

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 
 namespace oraclemesh {
 
@@ -52,7 +52,7 @@ BoundaryProjection CurveRegistry::project(int curve, const Point3& p) const {
     return {q, -1, distance(p, q)};
   }
   if (origin.entry < 0 || origin.edge < 0) return {};
-  const auto* solid = dynamic_cast<const BrepSolid*>(oracle_->entries()[origin.entry].source.get());
+  const auto* solid = oracle_->entries()[origin.entry].source->brepTopology();
   if (!solid) return {};
   return solid->projectOnEdge(p, origin.edge);
 }

@@ -19,7 +19,7 @@
 #include <set>
 
 #include "Error.h"
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 #include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CurveSampling.h"
@@ -88,7 +88,7 @@ bool onCompositeBoundary(const HierarchicalOracle& oracle, const Point3& p, int 
 struct FeatureBrepEdge {
   int entry;  // oracle entry of the solid
   int index;  // edge index in the solid
-  const BrepSolid* solid;
+  const BrepTopology* solid;
   const TopoDS_Edge& edge;
   double first, last;  // parameter range
   const BRepAdaptor_Curve& curve;
@@ -104,7 +104,7 @@ void measureFeatureBrepEdges(const HierarchicalOracle& oracle, const FeatureGrap
   for (const FeaturePolyline& pl : features.polylines)
     if (pl.source >= 0 && pl.edge >= 0) edges.insert({pl.source, pl.edge});
   for (const auto& [entry, e] : edges) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    const auto* solid = oracle.entries()[entry].source->brepTopology();
     if (!solid) continue;
     const TopoDS_Edge& edge = solid->edge(e);
     double first, last;
@@ -154,7 +154,7 @@ Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline&
   const Point3 chord = (1 / norm(segment)) * segment;
   std::vector<gp_Vec> candidates;
   if (pl.source >= 0 && pl.edge >= 0) {
-    if (const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[pl.source].source.get())) {
+    if (const auto* solid = oracle.entries()[pl.source].source->brepTopology()) {
       const BRepAdaptor_Curve curve(solid->edge(pl.edge));
       // The end's parameter, and either end of the curve where the point is on it (a closed
       // edge's vertex is at both).
@@ -173,8 +173,8 @@ Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline&
   } else if (pl.junction >= 0 && junctions) {
     const auto [entryA, entryB] = junctions->entries(pl.junction);
     const auto [faceA, faceB] = junctions->faces(pl.junction);
-    const auto* solidA = dynamic_cast<const BrepSolid*>(oracle.entries()[entryA].source.get());
-    const auto* solidB = dynamic_cast<const BrepSolid*>(oracle.entries()[entryB].source.get());
+    const auto* solidA = oracle.entries()[entryA].source->brepTopology();
+    const auto* solidB = oracle.entries()[entryB].source->brepTopology();
     gp_Vec normalA, normalB;
     const gp_Pnt p(end[0], end[1], end[2]);
     if (solidA && solidB && outwardNormalAt(solidA->face(faceA), p, normalA) &&
@@ -236,7 +236,7 @@ void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features,
 
 void coneApexes(const HierarchicalOracle& oracle, double limit, std::vector<SmallInputAngle>& out) {
   for (size_t entry = 0; entry < oracle.entries().size(); ++entry) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    const auto* solid = oracle.entries()[entry].source->brepTopology();
     if (!solid) continue;
     const double tolerance = 1e-7 * solid->bbox().diagonal();
     for (int f = 0; f < solid->faceCount(); ++f) {
@@ -313,8 +313,8 @@ void junctionAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
   for (const auto& [junction, polylines] : byJunction) {
     const auto [entryA, entryB] = junctions.entries(junction);
     const auto [faceA, faceB] = junctions.faces(junction);
-    const auto* solidA = dynamic_cast<const BrepSolid*>(oracle.entries()[entryA].source.get());
-    const auto* solidB = dynamic_cast<const BrepSolid*>(oracle.entries()[entryB].source.get());
+    const auto* solidA = oracle.entries()[entryA].source->brepTopology();
+    const auto* solidB = oracle.entries()[entryB].source->brepTopology();
     if (!solidA || !solidB) continue;
     SmallInputAngle smallest;
     smallest.angle_deg = 360;

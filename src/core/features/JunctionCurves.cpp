@@ -22,7 +22,7 @@
 #include <numeric>
 
 #include "Error.h"
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 #include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 
@@ -56,8 +56,8 @@ class CreaseClassifier {
         radius_(1e-4 * oracle.diagonal()),
         creaseAngle_(creaseAngleRad) {
     const auto& entries = oracle.entries();
-    solidA_ = dynamic_cast<const BrepSolid*>(entries[j.entryA].source.get());
-    solidB_ = dynamic_cast<const BrepSolid*>(entries[j.entryB].source.get());
+    solidA_ = entries[j.entryA].source->brepTopology();
+    solidB_ = entries[j.entryB].source->brepTopology();
   }
 
   const BRepAdaptor_Curve& curve() const { return curve_; }
@@ -200,13 +200,13 @@ class CreaseClassifier {
   const HierarchicalOracle& oracle_;
   const Junction& junction_;
   BRepAdaptor_Curve curve_;
-  const BrepSolid* solidA_ = nullptr;
-  const BrepSolid* solidB_ = nullptr;
+  const BrepTopology* solidA_ = nullptr;
+  const BrepTopology* solidB_ = nullptr;
   double radius_;
   double creaseAngle_;
 };
 
-int faceIndex(const BrepSolid& solid, const TopoDS_Shape& face) {
+int faceIndex(const BrepTopology& solid, const TopoDS_Shape& face) {
   for (int f = 0; f < solid.faceCount(); ++f)
     if (solid.face(f).IsSame(face)) return f;
   return -1;
@@ -294,10 +294,10 @@ JunctionCurves JunctionCurves::compute(const HierarchicalOracle& oracle, double 
   const double margin = oracle.tolerance();
   try {
     for (size_t a = 0; a < entries.size(); ++a) {
-      const auto* solidA = dynamic_cast<const BrepSolid*>(entries[a].source.get());
+      const auto* solidA = entries[a].source->brepTopology();
       if (!solidA) continue;
       for (size_t b = a + 1; b < entries.size(); ++b) {
-        const auto* solidB = dynamic_cast<const BrepSolid*>(entries[b].source.get());
+        const auto* solidB = entries[b].source->brepTopology();
         if (!solidB) continue;
         const Bbox ba = solidA->bbox(), bb = solidB->bbox();
         bool overlap = true;
@@ -502,7 +502,7 @@ FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& juncti
       const BoundaryProjection q = junctions.projectOnCurve(pl.junction, p);
       if (std::isfinite(q.distance)) return q.point;
     } else if (pl.source >= 0 && pl.edge >= 0 && pl.source < static_cast<int>(oracle.entries().size())) {
-      if (const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[pl.source].source.get())) {
+      if (const auto* solid = oracle.entries()[pl.source].source->brepTopology()) {
         const BoundaryProjection q = solid->projectOnEdge(p, pl.edge);
         if (std::isfinite(q.distance)) return q.point;
       }

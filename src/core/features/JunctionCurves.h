@@ -39,7 +39,7 @@ class JunctionCurves {
   // Number of junctions: section edges with at least one kept part.
   size_t size() const;
   // The two oracle entries (higher priority first) whose faces cross along junction i, and
-  // their 0-based face indices (BrepSolid::face order).
+  // their 0-based face indices (BrepTopology::face order).
   std::pair<int, int> entries(int junction) const;
   std::pair<int, int> faces(int junction) const;
   // The kept parts as polylines: exact ends (section vertices where the part reaches the end

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
 #include "features/CurveSampling.h"
@@ -28,7 +28,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   const double sagitta = thesisEngineSagitta(job, table, edgeSize);
   int nextCurve = 0;
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[i].source.get());
+    const auto* solid = oracle.entries()[i].source->brepTopology();
     if (!solid) continue;
     FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta);
     for (FeaturePolyline& pl : g.polylines) {

@@ -19,7 +19,7 @@
 #include <algorithm>
 #include <set>
 
-#include "domain/BrepSolid.h"
+#include "domain/BrepTopology.h"
 #include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 
@@ -33,7 +33,7 @@ using Delaunay2 = CGAL::Delaunay_triangulation_2<K, Tds>;
 
 // The faces' borders must be constrained segments: the sharp edges of the solid at the
 // job's angle, as the features step extracts them (same function, same threshold).
-std::set<int> sharpEdgesOf(const BrepSolid& solid, int entry, double sharpAngleDeg) {
+std::set<int> sharpEdgesOf(const BrepTopology& solid, int entry, double sharpAngleDeg) {
   std::set<int> sharp;
   if (!(sharpAngleDeg > 0)) return sharp;
   // Only which edges are sharp matters here, not their sampling: one segment per edge.
@@ -48,7 +48,7 @@ std::vector<PlanarFace> findPlanarFaces(const HierarchicalOracle& oracle, double
                                         std::vector<SkippedPlanarFace>* skipped) {
   std::vector<PlanarFace> faces;
   for (size_t entry = 0; entry < oracle.entries().size(); ++entry) {
-    const auto* solid = dynamic_cast<const BrepSolid*>(oracle.entries()[entry].source.get());
+    const auto* solid = oracle.entries()[entry].source->brepTopology();
     if (!solid) continue;
     TopTools_IndexedMapOfShape edgeMap;
     TopExp::MapShapes(solid->shape(), TopAbs_EDGE, edgeMap);
