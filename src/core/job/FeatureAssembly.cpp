@@ -54,9 +54,9 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     const FeatureGraph user = userPolylineFeatures(job.user_polylines, oracle, edgeSize, userCurves);
     clipped.polylines.insert(clipped.polylines.end(), user.polylines.begin(), user.polylines.end());
   }
-  // Rule Set Q (thesis §3.2, §3.2.1). Sharp edges of different inputs can cross mid-segment
-  // (edges of two parts on a common plane), so every graph is split, not only one with user
-  // curves.
+  // Crossings become shared ends (thesis §3.2, the step before Rule Set Q of §3.2.1). Sharp
+  // edges of different inputs can cross mid-segment (edges of two parts on a common plane), so
+  // every graph is split, not only one with user curves.
   // User curves snap onto CAD chords within 2.5 % of the edge size (chords of curved CAD edges
   // are up to 2 % off the curve); two CAD curves cross where their chords come within twice
   // the sampling sagitta, but not within an edge size of an end they share (part.step has
