@@ -13,6 +13,7 @@ the throughput of this run (cases meshed per minute of wall time, cluster start 
 """
 import argparse
 import os
+import signal
 import sys
 import time
 
@@ -66,6 +67,8 @@ def main():
     parser.add_argument("--out", default=os.path.join(HERE, "out"), help="results folder (default: out/ here)")
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args()
+    # Terminated, the batch still closes its local cluster (see oraclemesh.study.__main__).
+    signal.signal(signal.SIGTERM, lambda number, frame: sys.exit(128 + number))
 
     sys.path.insert(0, HERE)
     import make_knee_study  # FreeCAD's Part: imported here, not where Dask's workers import this file

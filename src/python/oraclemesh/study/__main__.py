@@ -4,6 +4,7 @@ Exit codes: 0 every case succeeded, 1 the study finished with failed cases, 2 ba
 or no jobs, 3 the cluster could not be used.
 """
 import argparse
+import signal
 import sys
 
 import oraclemesh
@@ -41,6 +42,9 @@ def parse(argv):
 
 def main(argv=None):
     args = parse(sys.argv[1:] if argv is None else argv)
+    # A terminated batch closes its local cluster (the finally blocks run) instead of leaving
+    # the worker processes behind; every case already finished is on disk either way.
+    signal.signal(signal.SIGTERM, lambda number, frame: sys.exit(128 + number))
     try:
         result = batch(args.jobs, out=args.out, scheduler=args.scheduler, workers=args.workers,
                        group_by=args.group_by, x=args.x, attempts=args.attempts, grace=args.grace,
