@@ -1,58 +1,16 @@
 """The task panel in FreeCAD's default combo view width and the traps of issue 17, in the real
 FreeCAD GUI under Xvfb (scripts/gui_panel.py drives one FreeCAD session; each test judges its
 section of it)."""
-import json
-import os
 import re
-import shutil
-import subprocess
-import sys
 
 import pytest
 
-from fc_testenv import BUILD, REPO, core_available
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from installed import require_programs  # noqa: E402
-
-GUI_PROGRAMS = {"xvfb-run": "xvfb", "xauth": "xauth", "freecad": "freecad"}
+from gui_session import run_gui_script
 
 
 @pytest.fixture(scope="module")
 def gui(tmp_path_factory):
-    require_programs(GUI_PROGRAMS)
-    if not core_available():
-        pytest.fail("the core under test is missing: build the project first")
-    tmp = tmp_path_factory.mktemp("gui_panel")
-    base = os.environ.get("ORACLEMESH_TEST_OUTPUT")
-    workdir = os.path.join(base, "freecad", "gui_panel") if base else str(tmp)
-    shutil.rmtree(workdir, ignore_errors=True)
-    os.makedirs(workdir)
-    home = tmp / "home"
-    home.mkdir()
-    result = os.path.join(workdir, "gui_panel.json")
-    env = dict(os.environ, HOME=str(home), OMFC_RESULT=result, OMFC_WORKDIR=workdir,
-               QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    env.pop("XDG_DATA_HOME", None)
-    env.pop("ORACLEMESH_WORKER_CRASH", None)
-    subprocess.run(["bash", os.path.join(REPO, "cmake", "install-workbench.sh"), BUILD],
-                   env=env, check=True, capture_output=True)
-    try:
-        proc = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
-             os.path.join(REPO, "tests", "freecad", "scripts", "gui_panel.py")],
-            env=env, cwd=workdir, capture_output=True, text=True, timeout=600)
-        log = proc.stdout + proc.stderr
-    except subprocess.TimeoutExpired:
-        log = "timeout"
-    with open(os.path.join(workdir, "gui_panel.log"), "w") as f:
-        f.write(log)
-    if not os.path.exists(result):
-        pytest.fail("the GUI run wrote no result:\n%s" % log[-3000:])
-    with open(result) as f:
-        r = json.load(f)
-    assert r["ok"], r.get("traceback")
-    return r
+    return run_gui_script(tmp_path_factory, "gui_panel.py", "gui_panel")
 
 
 def part(gui, name):

@@ -18,18 +18,14 @@ Writes what it measured as JSON to $OMFC_RESULT; test_gui_panel.py judges it.
 """
 import json
 import os
+import sys
 import time
 import traceback
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from gui_script import main, pump  # noqa: E402
+
 COMBO_VIEW_WIDTH = 264
-
-
-def pump(seconds=0.2):
-    from PySide import QtGui
-    end = time.time() + seconds
-    while time.time() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
 
 
 class MessageBoxes:
@@ -184,6 +180,17 @@ def combo_view():
     from PySide import QtGui
     return [d for d in FreeCADGui.getMainWindow().findChildren(QtGui.QDockWidget)
             if d.objectName() == "Combo View"][0]
+
+
+def active_document_with(name, type_id, object_name):
+    """A new active document holding one recomputed object: (document, object)."""
+    import FreeCAD
+    doc = FreeCAD.newDocument(name)
+    FreeCAD.setActiveDocument(doc.Name)
+    obj = doc.addObject(type_id, object_name)
+    doc.recompute()
+    pump()
+    return doc, obj
 
 
 def section(out, name, run):
@@ -348,11 +355,7 @@ def check(out):
 
     def other_doc(r):
         FemGui.setActiveAnalysis(analysis)  # stays active while another document is worked on
-        other = FreeCAD.newDocument("Other")
-        FreeCAD.setActiveDocument(other.Name)
-        box = other.addObject("Part::Box", "Block")
-        other.recompute()
-        pump()
+        other, box = active_document_with("Other", "Part::Box", "Block")
         n = len(boxes.texts)
         error = None
         try:
@@ -378,11 +381,7 @@ def check(out):
         FreeCAD.setActiveDocument(doc.Name)
 
     def refused(r):
-        plane_doc = FreeCAD.newDocument("Planes")
-        FreeCAD.setActiveDocument(plane_doc.Name)
-        plane = plane_doc.addObject("Part::Plane", "Plane")
-        plane_doc.recompute()
-        pump()
+        plane_doc, plane = active_document_with("Planes", "Part::Plane", "Plane")
         n = len(boxes.texts)
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(plane)
@@ -400,12 +399,4 @@ def check(out):
     section(out, "refused", refused)
 
 
-result = {"ok": True}
-try:
-    check(result)
-except BaseException:
-    result["ok"] = False
-    result["traceback"] = traceback.format_exc()
-with open(os.environ["OMFC_RESULT"], "w") as f:
-    json.dump(result, f, indent=1, default=str)
-os._exit(0)
+main(check)

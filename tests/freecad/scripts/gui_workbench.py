@@ -19,20 +19,15 @@ import json
 import os
 import sys
 import time
-import traceback
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from gui_script import main, pump  # noqa: E402
 
 
 def step(text):
     with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
         f.write("%.1f %s\n" % (time.time(), text))
 
-
-def pump(seconds=0.2):
-    from PySide import QtGui
-    end = time.time() + seconds
-    while time.time() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
 
 
 def group_volumes(mesh_obj):
@@ -457,12 +452,4 @@ def worker_children():
     return live_worker_children()
 
 
-result = {"ok": True}
-try:
-    check(result)
-except BaseException:
-    result["ok"] = False
-    result["traceback"] = traceback.format_exc()
-with open(os.environ["OMFC_RESULT"], "w") as f:
-    json.dump(result, f, indent=1, default=str)
-os._exit(0)
+main(check)
