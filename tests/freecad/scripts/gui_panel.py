@@ -309,8 +309,7 @@ def check(out):
         task_panel.current.accept()
         pump()
         r["changed_written"] = [mesh.SharpAngle.Value, "Touched" in mesh.State]
-        mesh.SharpAngle = 30.0
-        doc.recompute()
+        mesh.SharpAngle = 30.0  # meshed (and failing) in the next section
 
     def failure(r):
         mesh = state["mesh"]
@@ -336,6 +335,7 @@ def check(out):
                 o.ViewObject.Visibility = True
             new_panel = open_panel_by_command([pin, plate])
             new_mesh = new_panel.obj
+            new_panel.element_order.setCurrentIndex(new_panel.element_order.findData(1))
             inputs_after_command = [o.ViewObject.Visibility for o in (pin, plate)]
             for o in (pin, plate):
                 o.ViewObject.Visibility = False  # as an older version of the command left them
