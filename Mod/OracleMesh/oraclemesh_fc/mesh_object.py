@@ -142,7 +142,10 @@ class OracleMeshProxy(StatelessProxy):
         # The user sees at once what a newly linked object is to the mesher. Not while a
         # document loads: the saved list is already right and linked shapes may not be yet.
         if prop in ("Inputs", "Cuts") and hasattr(obj, "InputKinds") and "Restore" not in obj.State:
-            kinds = input_kinds(obj)
+            try:
+                kinds = input_kinds(obj)
+            except MeshInputError as e:  # an object listed twice: said here, refused on recompute
+                kinds = ["not usable: %s" % e]
             if list(obj.InputKinds) != kinds:
                 obj.InputKinds = kinds
 

@@ -628,6 +628,10 @@ class TaskPanel:
         except jobmod.MeshInputError as e:
             self.report.setPlainText(str(e))
             return False
+        except Exception as e:  # FreeCAD refused a property: say so, not only in the report view
+            self.report.setPlainText("The settings could not be written: %s" % e)
+            QtGui.QMessageBox.critical(self.form, "OracleMesh", self.report.toPlainText())
+            return False
         self.doc.openTransaction("OracleMesh mesh")
         try:
             self.obj.touch()
