@@ -152,6 +152,7 @@ json boundarySnapJson(const SnapReport& s, double diagonal) {
           {"vertices_on_boundary_by_engine", snap.on_boundary_by_engine},
           {"vertices_kept_off_surface", snap.kept_off_surface},
           {"flat_surface_slivers_removed", snap.slivers_removed},
+          {"flat_surface_slivers_kept_on_feature_edges", snap.slivers_kept_on_feature_edges},
           {"max_distance_kept_off_surface", snap.max_distance_kept},
           {"min_dihedral_before_deg", s.min_dihedral_before_deg}};
 }
