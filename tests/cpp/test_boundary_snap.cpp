@@ -37,28 +37,20 @@ TEST(FlatSurfaceSlivers, AFlatTetWithThreeOuterFacesIsRemoved) {
   EXPECT_EQ(s.mesh.boundary.size(), 4u);
 }
 
-// A feature edge whose only tet is the sliver would leave the mesh with it.
-TEST(FlatSurfaceSlivers, TheLastTetOnAFeatureEdgeStays) {
-  FlatSliverOnSurface s;
-  s.mesh.feature_edges = {{1, 4}};
-  s.mesh.feature_edge_curves = {0};
-  int64_t kept = 0;
-  EXPECT_EQ(removeFlatSurfaceSlivers(s.mesh, s.target, kept), 0);
-  EXPECT_EQ(kept, 1);
-  EXPECT_EQ(s.mesh.tets.size(), 2u);
-  EXPECT_EQ(test::featureEdgesNotTetEdges(s.mesh), 0);
-}
-
-// Edge {1, 2} is also an edge of the corner tet: the sliver goes, the edge stays.
-TEST(FlatSurfaceSlivers, ASliverOnAFeatureEdgeOtherTetsHaveIsRemoved) {
-  FlatSliverOnSurface s;
-  s.mesh.feature_edges = {{1, 2}};
-  s.mesh.feature_edge_curves = {0};
-  int64_t kept = 0;
-  EXPECT_EQ(removeFlatSurfaceSlivers(s.mesh, s.target, kept), 1);
-  EXPECT_EQ(kept, 0);
-  EXPECT_EQ(s.mesh.tets.size(), 1u);
-  EXPECT_EQ(test::featureEdgesNotTetEdges(s.mesh), 0);
+// A feature edge whose only tet is the sliver, {1, 4}, would leave the mesh with it: the
+// sliver stays. Edge {1, 2} is also an edge of the corner tet: the sliver goes, the edge stays.
+TEST(FlatSurfaceSlivers, OnlyTheLastTetOnAFeatureEdgeStays) {
+  for (const std::array<int64_t, 2> edge : {std::array<int64_t, 2>{1, 4}, std::array<int64_t, 2>{1, 2}}) {
+    const bool last = edge[1] == 4;
+    FlatSliverOnSurface s;
+    s.mesh.feature_edges = {edge};
+    s.mesh.feature_edge_curves = {0};
+    int64_t kept = 0;
+    EXPECT_EQ(removeFlatSurfaceSlivers(s.mesh, s.target, kept), last ? 0 : 1) << edge[0] << "-" << edge[1];
+    EXPECT_EQ(kept, last ? 1 : 0);
+    EXPECT_EQ(s.mesh.tets.size(), last ? 2u : 1u);
+    EXPECT_EQ(test::featureEdgesNotTetEdges(s.mesh), 0);
+  }
 }
 
 }  // namespace
