@@ -101,7 +101,9 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
   // skipping it also skips rebuilding the Mesh_3 complex (implant_in_bone (a): 0.7 s of a
   // 2.6 s job).
   const bool slivers_left = stats.slivers_left_total > 0;
-  if (job.perturb && slivers_left) {
+  // A feature edge the engine's mesh lost (a subsegment left no Delaunay edge) makes the
+  // complex impossible to rebuild; the pipeline's final check names that edge instead.
+  if (job.perturb && slivers_left && featureEdgesNotTetEdges(result.mesh) == 0) {
     control.report("sliver removal", 0);
     Mesh3Options sliverRemoval = mesh3Options(job, criteria);
     sliverRemoval.exude = false;
