@@ -45,11 +45,11 @@ cat >"$work/demo_job.py" <<'PY'
 import json, os, sys
 sys.path.insert(0, os.path.join(os.environ["BASE"], "Mod", "OracleMesh"))
 import FreeCAD
-from oraclemesh_fc import demo, job, mesh_object
+from oraclemesh_fc import demo, job, makeMesh
 doc = FreeCAD.newDocument("SameMeshes")
 analysis, solver, pin, plate, corner = demo.build(doc)
-mesh = mesh_object.makeMesh(doc, [pin, plate], analysis=analysis, cuts=[corner],
-                            cell_size=4.0, facet_distance=0.1, element_order=2)
+mesh = makeMesh(doc, [pin, plate], analysis=analysis, cuts=[corner],
+                cell_size=4.0, facet_distance=0.1, element_order=2)
 with open(os.environ["OUT"], "w") as f:
     json.dump(job.build_job(mesh)[0], f)
 PY
