@@ -12,62 +12,18 @@ session, judged here by several tests):
 - the mesh command's doCommand lines reach the console (what the macro recorder records)
   and, replayed on a new document, make the same mesh object.
 """
-import json
 import os
-import shutil
-import subprocess
-import sys
 
 import pytest
 
-from fc_testenv import BUILD, REPO, core_available
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from installed import require_module, require_programs  # noqa: E402
-
-# program -> the Debian package that cmake/install-deps.sh installs it from
-GUI_PROGRAMS = {"xvfb-run": "xvfb", "xauth": "xauth", "freecad": "freecad"}
+from gui_session import run_gui_script
+from installed import require_module
 
 
 @pytest.fixture(scope="module")
 def gui(tmp_path_factory):
     """Run scripts/gui_workbench.py once in the FreeCAD GUI; its measurements as a dict."""
-    require_programs(GUI_PROGRAMS)
-    if not core_available():
-        pytest.fail("the core under test is missing: build the project first")
-    tmp = tmp_path_factory.mktemp("gui")
-    base = os.environ.get("ORACLEMESH_TEST_OUTPUT")
-    workdir = os.path.join(base, "freecad", "gui") if base else str(tmp)
-    shutil.rmtree(workdir, ignore_errors=True)
-    os.makedirs(workdir)
-    home = tmp / "home"
-    home.mkdir()
-    result = os.path.join(workdir, "gui.json")
-    env = dict(os.environ, HOME=str(home), OMFC_RESULT=result, OMFC_WORKDIR=workdir,
-               # FreeCAD's start page uses QtWebEngine, which refuses to run as root sandboxed.
-               QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    env.pop("XDG_DATA_HOME", None)
-    env.pop("ORACLEMESH_WORKER_CRASH", None)
-    subprocess.run(["bash", os.path.join(REPO, "cmake", "install-workbench.sh"), BUILD],
-                   env=env, check=True, capture_output=True)
-    try:
-        proc = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
-             os.path.join(REPO, "tests", "freecad", "scripts", "gui_workbench.py")],
-            env=env, cwd=workdir, capture_output=True, text=True, timeout=600)
-        log = proc.stdout + proc.stderr
-    except subprocess.TimeoutExpired:
-        log = "timeout"
-    with open(os.path.join(workdir, "gui.log"), "w") as f:
-        f.write(log)
-    steps = result + ".steps"
-    trail = open(steps).read() if os.path.exists(steps) else ""
-    if not os.path.exists(result):
-        pytest.fail("the GUI run wrote no result; steps reached:\n%s\n%s" % (trail, log[-3000:]))
-    with open(result) as f:
-        r = json.load(f)
-    assert r["ok"], "%s\nsteps:\n%s" % (r.get("traceback"), trail)
-    return r
+    return run_gui_script("gui_workbench.py", "gui", tmp_path_factory)
 
 
 def test_task_panel_reorders_and_meshes(gui):
@@ -119,7 +75,7 @@ def test_reordering_priorities_moves_the_overlap(gui):
 
 def test_screenshot_shows_the_materials(gui):
     assert os.path.getsize(gui["screenshot"]) > 10000
-    assert gui["element_colours"] == gui["mesh2"]["nodes"]  # every node coloured
+    assert gui["element_colours"] == gui["face_polygons"] > 0  # every drawn face coloured
     assert gui["edges_drawn"] == gui["mesh2"]["feature_edges"]
     pixels = dict(gui["colour_pixels"])
     print("colour pixels:", pixels)

@@ -71,8 +71,9 @@ class CommandMeshSelection:
             doc.abortTransaction()
             raise
         doc.commitTransaction()
+        # Nothing stays selected: FreeCAD would draw the selected mesh all in its highlight
+        # colour, over the material colours.
         FreeCADGui.Selection.clearSelection()
-        FreeCADGui.doCommandGui("FreeCADGui.Selection.addSelection(oracle_mesh)")
         # The user meshes from the panel (Mesh button) after checking priorities and sizes.
         FreeCADGui.doCommandGui("FreeCADGui.ActiveDocument.setEdit(oracle_mesh.Name, 0)")
 

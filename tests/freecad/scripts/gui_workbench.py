@@ -254,6 +254,8 @@ def check(out):
     out["colours"] = colours
     out["colour_pixels"] = colour_pixels(shot, colours)
     out["element_colours"], out["edges_drawn"] = mesh.ViewObject.Proxy.shown
+    faces = display.face_set_nodes(mesh.ViewObject.RootNode)[1]
+    out["face_polygons"] = list(faces.coordIndex.getValues()).count(-1)
     # The same view without the edge lines: what the lines add is what the user sees of them.
     mesh.ViewObject.Proxy.edge_node.update([])
     pump(0.3)
