@@ -9,7 +9,7 @@ free name (group '<name>_Volumes'). A compound can be "treated as one input": it
 are joined into one row (and split again).
 """
 from . import job as jobmod
-from .parts import input_parts, part_key, solid_labels, split_solids, unique_labels
+from .parts import input_parts, part_key, solid_count, solid_labels, unique_labels
 
 
 class Row:
@@ -57,7 +57,7 @@ def rows_from_object(mesh_obj, fem_materials):
 
 def rows_for_object(mesh_obj, fem_materials, obj, whole, taken=()):
     """New rows for obj: one per solid of a compound unless whole; labels not in taken."""
-    count = 0 if whole else split_solids(mesh_obj, obj)
+    count = 0 if whole else solid_count(obj)
     if not count:
         return [Row(obj, "material", material_of(mesh_obj, fem_materials, obj), {})]
     labels = unique_labels(list(taken) + solid_labels(mesh_obj, obj, count))[len(taken):]

@@ -38,15 +38,22 @@ def part_key(obj, solid=None):
     return obj.Name if solid is None else "%s.Solid%d" % (obj.Name, solid)
 
 
-def split_solids(mesh_obj, obj):
-    """Number of parts obj splits into (0: it stays whole)."""
-    if is_mesh_feature(obj) or obj in list(getattr(mesh_obj, "WholeInputs", []) or []):
+def solid_count(obj):
+    """Number of solids of obj if it has several (a compound), else 0."""
+    if is_mesh_feature(obj):
         return 0
     try:
         count = len(global_shape(obj).Solids)
     except MeshInputError:
         return 0  # reported when the job is built
     return count if count > 1 else 0
+
+
+def split_solids(mesh_obj, obj):
+    """Number of parts obj splits into in mesh_obj (0: it stays whole)."""
+    if obj in list(getattr(mesh_obj, "WholeInputs", []) or []):
+        return 0
+    return solid_count(obj)
 
 
 def found_labels(obj, count):
