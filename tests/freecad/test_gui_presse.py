@@ -54,6 +54,7 @@ def test_screenshot_shows_the_part_colours_without_highlight(presse):
 
 def test_macro_makes_the_same_mesh_and_calculix_solves_it(presse):
     macro = presse["macro"]
+    assert "error" not in macro, macro.get("error")
     print("macro: %s in %.0f s; max displacement %.4f mm, loaded face mean uy %.4f mm, "
           "reaction %.1f N of %.1f N" % (macro["status"], macro["seconds"],
                                          macro["max_displacement"], macro["loaded_face_mean_uy"],

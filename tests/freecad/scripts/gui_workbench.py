@@ -22,17 +22,8 @@ import time
 import traceback
 
 
-def step(text):
-    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
-        f.write("%.1f %s\n" % (time.time(), text))
-
-
-def pump(seconds=0.2):
-    from PySide import QtGui
-    end = time.time() + seconds
-    while time.time() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from gui_steps import pump, step  # noqa: E402
 
 
 def group_volumes(mesh_obj):
