@@ -1,6 +1,10 @@
-"""Run one script of scripts/ in the real FreeCAD GUI under Xvfb, with the workbench installed
-by cmake/install-workbench.sh into a scratch HOME; the script writes its measurements as JSON
-to $OMFC_RESULT and its trail of steps to $OMFC_RESULT.steps (a GUI crash shows where)."""
+"""Runs a script of scripts/ once in the real FreeCAD GUI under Xvfb, with the workbench
+installed by cmake/install-workbench.sh into a scratch HOME (the GUI tests' fixtures).
+
+The script writes its measurements as JSON to $OMFC_RESULT (see gui_script.py) and may leave
+a trail of steps in $OMFC_RESULT.steps, so a GUI crash shows where it happened. Outputs go to
+ORACLEMESH_TEST_OUTPUT/freecad/<name> when that is set, else to a pytest temporary folder.
+"""
 import json
 import os
 import shutil
@@ -18,9 +22,8 @@ from installed import require_programs  # noqa: E402
 GUI_PROGRAMS = {"xvfb-run": "xvfb", "xauth": "xauth", "freecad": "freecad"}
 
 
-def run_gui_script(script, name, tmp_path_factory, timeout=600, env=None):
-    """Run scripts/<script> in the FreeCAD GUI; its result dict (fails the test if the script
-    failed). Outputs go to $ORACLEMESH_TEST_OUTPUT/freecad/<name>, else a pytest tmp dir."""
+def run_gui_script(tmp_path_factory, script, name, timeout=600):
+    """The dict the script wrote; fails the test when the run wrote none or not ok."""
     require_programs(GUI_PROGRAMS)
     if not core_available():
         pytest.fail("the core under test is missing: build the project first")
@@ -32,19 +35,18 @@ def run_gui_script(script, name, tmp_path_factory, timeout=600, env=None):
     home = tmp / "home"
     home.mkdir()
     result = os.path.join(workdir, name + ".json")
-    full_env = dict(os.environ, HOME=str(home), OMFC_RESULT=result, OMFC_WORKDIR=workdir,
-                    # FreeCAD's start page uses QtWebEngine, which refuses to run as root sandboxed.
-                    QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    full_env.pop("XDG_DATA_HOME", None)
-    full_env.pop("ORACLEMESH_WORKER_CRASH", None)
-    full_env.update(env or {})
+    env = dict(os.environ, HOME=str(home), OMFC_RESULT=result, OMFC_WORKDIR=workdir,
+               # FreeCAD's start page uses QtWebEngine, which refuses to run as root sandboxed.
+               QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
+    env.pop("XDG_DATA_HOME", None)
+    env.pop("ORACLEMESH_WORKER_CRASH", None)
     subprocess.run(["bash", os.path.join(REPO, "cmake", "install-workbench.sh"), BUILD],
-                   env=full_env, check=True, capture_output=True)
+                   env=env, check=True, capture_output=True)
     try:
         proc = subprocess.run(
             ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
              os.path.join(REPO, "tests", "freecad", "scripts", script)],
-            env=full_env, cwd=workdir, capture_output=True, text=True, timeout=timeout)
+            env=env, cwd=workdir, capture_output=True, text=True, timeout=timeout)
         log = proc.stdout + proc.stderr
     except subprocess.TimeoutExpired:
         log = "timeout"

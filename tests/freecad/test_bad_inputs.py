@@ -12,6 +12,7 @@ EXPECTED = {
     "too_many_vertices": ["max_vertices"],
     "not_a_shape": ["justagroup", "no shape"],
     "unknown_size_key": ["nope", "inputsizes"],
+    "listed_twice": ["goodbox", "twice"],
 }
 
 
@@ -31,5 +32,9 @@ def test_bad_inputs_fail_cleanly(run_freecad):
         missing = [w for w in words if w not in text]
         if missing:
             problems.append("%s: message lacks %s: %s" % (case, missing, c["status"]))
+        if "the previous mesh is kept" not in text:
+            problems.append("%s: the message does not say the mesh is kept" % case)
+    # Linking an object twice is said as soon as it is linked, not as a traceback.
+    assert any("listed twice" in k for k in r["listed_twice"]["kinds"]), r["listed_twice"]
     assert r["recovered"], "the mesh did not recompute after the inputs were fixed"
     assert not problems, "\n".join(problems)

@@ -13,17 +13,20 @@ session, judged here by several tests):
   and, replayed on a new document, make the same mesh object.
 """
 import os
+import sys
 
 import pytest
 
 from gui_session import run_gui_script
-from installed import require_module
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from installed import require_module  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def gui(tmp_path_factory):
     """Run scripts/gui_workbench.py once in the FreeCAD GUI; its measurements as a dict."""
-    return run_gui_script("gui_workbench.py", "gui", tmp_path_factory)
+    return run_gui_script(tmp_path_factory, "gui_workbench.py", "gui")
 
 
 def test_task_panel_reorders_and_meshes(gui):

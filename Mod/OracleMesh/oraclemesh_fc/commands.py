@@ -11,7 +11,8 @@ import FreeCAD
 import FreeCADGui
 
 from .icons import icon_path
-from .selection import active_analysis, selected_mesh, selected_meshed, selected_solids
+from .selection import (ACCEPTED, active_analysis, refusal, selected_mesh, selected_meshed,
+                        selected_solids)
 
 
 def object_expression(obj):
@@ -51,26 +52,34 @@ class CommandMeshSelection:
 
         doc = FreeCAD.ActiveDocument
         inputs = selected_solids()
+        refused = [refusal(o) for o in FreeCADGui.Selection.getSelection() if o not in inputs]
         if not inputs:
             QtGui.QMessageBox.warning(
                 FreeCADGui.getMainWindow(), "OracleMesh",
-                "Select one or more solids (or compounds, Mesh objects), highest priority first.")
+                "Nothing to mesh: %s. %s" % ("; ".join(r for r in refused if r), ACCEPTED))
             return
+        for text in refused:
+            if text:
+                FreeCAD.Console.PrintWarning("OracleMesh: left out %s. %s\n" % (text, ACCEPTED))
         analysis = active_analysis()
-        if analysis is not None and analysis.Document != doc:
-            analysis = None  # an analysis groups objects of its own document only
+        if analysis is not None and analysis.Document.Name != doc.Name:
+            # An analysis groups objects of its own document only: this mesh joins none.
+            FreeCAD.Console.PrintWarning(
+                "OracleMesh: the active analysis '%s' is in document '%s', so the mesh of "
+                "'%s' is not added to it; activate an analysis of '%s' and add the mesh there "
+                "to use it\n" % (analysis.Label, analysis.Document.Label, doc.Label, doc.Label))
+            analysis = None
         doc.openTransaction("OracleMesh mesh")
         try:
             FreeCADGui.addModule("oraclemesh_fc")
             FreeCADGui.doCommand(make_mesh_line("oracle_mesh", inputs, analysis,
                                                 preferences.mesh_options(inputs)))
-            for obj in inputs:
-                FreeCADGui.doCommandGui("%s.ViewObject.Visibility = False"
-                                        % object_expression(obj))
         except Exception:
             doc.abortTransaction()
             raise
         doc.commitTransaction()
+        # The inputs stay visible until there is a mesh to show instead (the task panel hides
+        # them after meshing), so a failed first mesh does not leave an empty view.
         # Nothing stays selected: FreeCAD would draw the selected mesh all in its highlight
         # colour, over the material colours.
         FreeCADGui.Selection.clearSelection()

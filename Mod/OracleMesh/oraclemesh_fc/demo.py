@@ -72,7 +72,9 @@ def build(doc):
     vertical = next("Edge%d" % i for i, e in enumerate(plate.Shape.Edges, start=1)
                     if abs(e.Vertexes[0].Point.z - e.Vertexes[1].Point.z) > 1e-9)
     force.Direction = (plate, [vertical])
-    force.Reversed = plate.Shape.getElement(vertical).Vertexes[1].Point.z > \
-        plate.Shape.getElement(vertical).Vertexes[0].Point.z  # point down (-z)
+    # FreeCAD takes the direction from the edge's line, not from the order of its vertexes:
+    # ask FreeCAD which way it points, and reverse it if that is up.
+    force.Reversed = False
+    force.Reversed = force.DirectionVector.z > 0  # pull down (-z)
     analysis.addObject(force)
     return analysis, solver, pin, plate, corner

@@ -54,6 +54,12 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     if unknown:
         raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
                         % (", ".join(unknown), ", ".join(sorted(known))))
+    if analysis is not None and analysis.Document.Name != doc.Name:
+        # Checked before the object exists, so a refused call leaves no orphan mesh behind.
+        raise ValueError("makeMesh: analysis '%s' is in document '%s', the mesh would be in '%s': "
+                         "an analysis holds objects of its own document only; pass an analysis "
+                         "of '%s' or none" % (analysis.Label, analysis.Document.Label, doc.Label,
+                                              doc.Label))
 
     obj = doc.addObject("Fem::FemMeshObjectPython", name)
     OracleMeshProxy(obj)

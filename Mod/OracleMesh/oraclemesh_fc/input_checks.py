@@ -1,7 +1,9 @@
 """Warnings about the inputs that the core's report cannot give: edges where two faces of an
 input meet at a very small angle (thin wedges, or slits for reflex edges). Delaunay
 refinement needs small elements there and sliver removal rarely repairs them, so the user is
-told where poor elements will come from."""
+told where poor elements will come from. And cuts that act on nothing: a cut removes material
+from the inputs below it in the priority list only, so a cut below every material input (where
+the selection order puts an object selected last) silently removes nothing."""
 import math
 
 SMALL_ANGLE_DEG = 15.0
@@ -31,12 +33,27 @@ def small_edge_angles(shape, limit_deg=SMALL_ANGLE_DEG):
     return found
 
 
-def input_warnings(mesh_obj, limit_deg=SMALL_ANGLE_DEG):
-    """Warning sentences for the material inputs of mesh_obj (for the task panel report)."""
-    from .job import global_shape, priority_entries
-
+def cut_warnings(entries):
+    """Warning sentences for the cuts of [(obj, role)] (highest priority first) that have no
+    material input below them."""
     warnings = []
-    for obj, role in priority_entries(mesh_obj.Inputs, mesh_obj.Cuts):
+    for i, (obj, role) in enumerate(entries):
+        if role == "cut" and all(r != "material" for _, r in entries[i + 1:]):
+            warnings.append("cut '%s' is below every input: it removes nothing; move it up"
+                            % obj.Label)
+    return warnings
+
+
+def input_warnings(mesh_obj, limit_deg=SMALL_ANGLE_DEG):
+    """Warning sentences for the inputs of mesh_obj (for the task panel report)."""
+    from .job import MeshInputError, global_shape, priority_entries
+
+    try:
+        entries = priority_entries(mesh_obj.Inputs, mesh_obj.Cuts)
+    except MeshInputError:
+        return []  # reported by the mesh object itself
+    warnings = cut_warnings(entries)
+    for obj, role in entries:
         try:
             edges = small_edge_angles(global_shape(obj), limit_deg)
         except Exception:  # bad inputs are reported by the mesh object itself

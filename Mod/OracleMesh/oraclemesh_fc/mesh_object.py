@@ -2,17 +2,20 @@
 
 Its properties are the job (inputs in priority order, cuts, sizes, element order, sharp-edge
 angle, extra edges); execute() builds the job from the linked shapes, runs the core and replaces FemMesh
-with the result, one volume group per material (see job.volume_groups). On any error the
-previous FemMesh stays as it was, the error is printed to the report view (and shown in a
-message box in the GUI) and execute() raises, so FreeCAD marks the object as failed.
+with the result, one volume group per material (see job.volume_groups). On any error, in the
+job, the core or the hand-off, the previous FemMesh stays as it was, the error goes into
+Status and the report view (and a message box in the GUI) and execute() raises, so FreeCAD
+marks the object as failed.
 Objects are made by factory.makeMesh.
 """
 import json
+import time
 
 import FreeCAD
 
 from .handoff import build_femmesh, feature_edge_mid_nodes
-from .job import build_job, input_kinds, name_polylines
+from .input_checks import cut_warnings
+from .job import MeshInputError, build_job, input_kinds, name_polylines, priority_entries
 from .proxy import StatelessProxy
 from .runner import import_core, run_job
 
@@ -148,44 +151,66 @@ class OracleMeshProxy(StatelessProxy):
         # The user sees at once what a newly linked object is to the mesher. Not while a
         # document loads: the saved list is already right and linked shapes may not be yet.
         if prop in ("Inputs", "Cuts") and hasattr(obj, "InputKinds") and "Restore" not in obj.State:
-            kinds = input_kinds(obj)
+            try:
+                kinds = input_kinds(obj)
+            except MeshInputError as e:  # an object listed twice: said here, refused on recompute
+                kinds = ["not usable: %s" % e]
             if list(obj.InputKinds) != kinds:
                 obj.InputKinds = kinds
 
     def execute(self, obj):
-        obj.InputKinds = input_kinds(obj)
-        polyline_names = []
+        # Everything that can fail runs before the first output property is written, and any
+        # failure (the job, the core, the hand-off, the report) becomes the same message in
+        # Status, the report view and (GUI) a message box: never a bare traceback.
+        polyline_names, kinds = [], None
+        had_mesh = obj.FemMesh.VolumeCount > 0
+        started = time.time()
         try:
+            kinds = input_kinds(obj)
             job, groups, described, polyline_names = build_job(obj)
             result = run_job(job, obj.Label)
             femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups)
+            outputs = mesh_outputs(result, groups, described, femmesh, time.time() - started)
         except Exception as e:
             # The core names extra edges by their place in the job: say which edge it is.
-            message = "OracleMesh '%s' failed, the previous mesh is kept: %s" % (
-                obj.Label, name_polylines(error_text(e), polyline_names))
+            message = "OracleMesh '%s' failed%s: %s" % (
+                obj.Label, ", the previous mesh is kept" if had_mesh else "",
+                name_polylines(error_text(e), polyline_names))
+            if kinds is not None:
+                obj.InputKinds = kinds
             obj.Status = message
             FreeCAD.Console.PrintError(message + "\n")
             if FreeCAD.GuiUp and not is_cancel(e):  # the user asked for it: no error box
                 show_error(message)
             raise MeshingFailed(message) from None
-
-        report = dict(result.report)
-        report["freecad"] = {
-            "inputs": [{"name": p.key, "label": p.label, "role": role, "material": mid,
-                        "group": next((g for g, ids in groups if mid in ids), None)}
-                       for p, role, mid in described],
-            "groups": {g: ids for g, ids in groups},
-        }
-        obj.FeatureEdges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
-        obj.FeatureEdgeMidNodes = [m + 1 for m in feature_edge_mid_nodes(result.tets,
-                                                                         result.feature_edges)]
+        obj.InputKinds = kinds
+        obj.FeatureEdges, obj.FeatureEdgeMidNodes, obj.Report, status = outputs
         obj.FemMesh = femmesh
-        obj.Report = json.dumps(report, indent=1, sort_keys=True)
-        obj.Status = "%d nodes, %d %s; groups: %s" % (
-            femmesh.NodeCount, femmesh.VolumeCount,
-            "tet10" if result.tets.shape[1] == 10 else "tet4",
-            ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
-                      for g in femmesh.Groups))
+        obj.Status = status
+        for warning in cut_warnings(priority_entries(obj.Inputs, obj.Cuts)):
+            FreeCAD.Console.PrintWarning("OracleMesh '%s': %s\n" % (obj.Label, warning))
+
+
+def mesh_outputs(result, groups, described, femmesh, wall_seconds):
+    """(FeatureEdges, FeatureEdgeMidNodes, Report, Status) of a mesh: everything execute()
+    writes besides FemMesh, computed before anything is written."""
+    report = dict(result.report)
+    report["freecad"] = {
+        "inputs": [{"name": p.key, "label": p.label, "role": role, "material": mid,
+                    "group": next((g for g, ids in groups if mid in ids), None)}
+                   for p, role, mid in described],
+        "groups": {g: ids for g, ids in groups},
+        # What the user waited for: the phases in report["seconds"] nest and overlap.
+        "wall_seconds": wall_seconds,
+    }
+    edges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
+    mids = [m + 1 for m in feature_edge_mid_nodes(result.tets, result.feature_edges)]
+    status = "%d nodes, %d %s; groups: %s" % (
+        femmesh.NodeCount, femmesh.VolumeCount,
+        "tet10" if result.tets.shape[1] == 10 else "tet4",
+        ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
+                  for g in femmesh.Groups))
+    return edges, mids, json.dumps(report, indent=1, sort_keys=True), status
 
 
 def is_cancel(error):
@@ -196,10 +221,25 @@ def is_cancel(error):
 
 
 def error_text(error):
-    """User text of an exception: core errors carry their own message naming input and fix."""
+    """User text of an exception: core errors carry their own message naming input and fix;
+    anything else is a bug of the workbench or the core, said as such (its traceback goes to
+    the report view's log)."""
     if is_cancel(error):
         return "meshing was cancelled"
-    return str(error) or error.__class__.__name__
+    if isinstance(error, (MeshInputError, ImportError)) or is_core_error(error):
+        return str(error) or error.__class__.__name__
+    import traceback
+    FreeCAD.Console.PrintLog("".join(traceback.format_exception(
+        type(error), error, error.__traceback__)))
+    return "internal error (%s: %s); please report it with the document" % (
+        error.__class__.__name__, error)
+
+
+def is_core_error(error):
+    try:
+        return isinstance(error, import_core().Error)
+    except ImportError:
+        return False
 
 
 def show_error(message):

@@ -83,17 +83,23 @@ class PreferencePage:
         for name, divisor in PRESETS:
             self.preset.addItem(name if divisor is None else
                                 "%s (cell size = model diagonal / %g)" % (name, divisor), name)
+        self.preset.setToolTip("Cell size of new meshes; automatic = model diagonal / 15, "
+                               "chosen by the mesher")
         layout.addRow("Default sizes", self.preset)
         self.engine = QtGui.QComboBox()
         add_engines(self.engine)
+        self.engine.setToolTip("Meshing engine of new meshes")
         layout.addRow("Engine", self.engine)
         self.order = QtGui.QComboBox()
         self.order.addItem("1 - linear (C3D4)", 1)
         self.order.addItem("2 - quadratic (C3D10)", 2)
+        self.order.setToolTip("Element order of new meshes")
         layout.addRow("Element order", self.order)
         self.sharp = QtGui.QDoubleSpinBox()
         self.sharp.setRange(0.0, 180.0)
         self.sharp.setSuffix(" deg")
+        self.sharp.setToolTip("B-rep edges whose faces meet at more than this angle are kept as "
+                              "mesh edges in new meshes")
         layout.addRow("Sharp-edge angle (0 = off)", self.sharp)
 
     def loadSettings(self):

@@ -22,6 +22,36 @@ def selected_solids():
     return objs
 
 
+# What the mesh command and the task panel take, for the messages that refuse anything else.
+ACCEPTED = ("OracleMesh meshes solids, compounds of solids (an imported assembly), closed "
+            "shells and Mesh objects: select those, highest priority first")
+
+# Shape types in the words of a refusal ("'Plane' (Part::Plane) is a face, not a solid").
+SHAPE_WORDS = {"Face": "a face", "Wire": "a wire", "Edge": "an edge", "Vertex": "a point",
+               "Shell": "an open shell"}
+
+
+def refusal(obj):
+    """Why obj is not a mesh input, naming what it is ('' for an OracleMesh object, which is
+    left out of its own inputs without a word)."""
+    what = "'%s' (%s)" % (obj.Label, obj.TypeId)
+    if is_oracle_mesh(obj):
+        return ""
+    if obj.isDerivedFrom("Mesh::Feature"):
+        return "%s is an empty mesh" % what
+    shape = getattr(obj, "Shape", None)
+    if shape is None:
+        return "%s has no shape" % what
+    if shape.isNull():
+        return "%s has an empty shape (recompute it)" % what
+    if shape.ShapeType in SHAPE_WORDS:
+        return "%s is %s, not a solid" % (what, SHAPE_WORDS[shape.ShapeType])
+    parts = [(len(shape.Faces), "face"), (len(shape.Edges), "edge"), (len(shape.Vertexes), "point")]
+    count, word = next(((n, w) for n, w in parts if n), (0, "shape"))
+    return "%s is a %s of %d %s%s and no solid" % (what, shape.ShapeType.lower(), count, word,
+                                                  "" if count == 1 else "s")
+
+
 def selected_mesh():
     """The selected OracleMesh object (or the only one of the active document)."""
     for obj in FreeCADGui.Selection.getSelection():

@@ -15,7 +15,14 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
 - Engine, sharp-edge angle, junctions, planar faces, element order, optimisation.
 - Extra edges kept as mesh edges: edges picked in the 3D view, whole sketches or shapes.
 - The report of the last mesh: tets and volume per material, dihedral angles, warnings (the
-  core's, and small angles between the faces of an input, see input_checks.py).
+  core's, and small angles between the faces of an input, see input_checks.py), or why
+  meshing failed.
+
+It fits FreeCAD's default combo view (264 px wide): short labels with the explanations in
+tooltips, form rows wrapped, buttons no wider than their text needs. "automatic" shows the
+value the core will use (sizes.py). Traps are said where they are set: a cut with no
+material input below it, which would remove nothing. OK and Apply without a change write
+nothing, so the mesh is not touched (no remesh on the next recompute).
 """
 import json
 
@@ -24,18 +31,37 @@ from PySide import QtCore, QtGui
 
 from . import job as jobmod
 from . import input_rows, preferences
-from .input_checks import input_warnings
-from .selection import selected_solids
+from . import sizes
+from .panel_widgets import AutomaticDelegate, fit_columns, fit_text, narrow_form, show_rows
+from .input_checks import cut_warnings, input_warnings
+from .selection import ACCEPTED, refusal, selected_solids
 
-# Criteria table columns: (job key, header)
+# Criteria table columns: (job key, name)
 CRITERIA_COLUMNS = (
     ("cell_size", "Cell size"),
     ("facet_distance", "Facet distance"),
     ("facet_size", "Facet size"),
     ("cell_radius_edge_ratio", "Radius-edge ratio"),
 )
+# Job key -> (header short enough for the combo view, tooltip)
+CRITERIA_HEADERS = {
+    "cell_size": ("Cell", "Cell size: largest tetrahedron circumradius"),
+    "facet_distance": ("Distance", "Facet distance: largest distance of a surface triangle "
+                                   "from the CAD surface"),
+    "facet_size": ("Facet", "Facet size: largest surface triangle (circumradius)"),
+    "cell_radius_edge_ratio": ("Ratio", "Radius-edge ratio: largest circumradius / shortest "
+                                        "edge of a tetrahedron"),
+}
 ROLES = ("material", "cut")
 AUTO_MATERIAL = "(automatic)"
+# Rows the inputs and criteria tables show without scrolling.
+VISIBLE_ROWS = 5
+INPUT_COLUMN_TIPS = (
+    "The input object (hover a row for its name and priority)",
+    "material: meshed; cut: removes material from the inputs below it",
+    "A FEM material of the analysis (its References get the input) or any name: the volume "
+    "group is '<name>_Volumes'",
+)
 
 # The open panel, so it is not garbage-collected while FreeCAD shows it (and tests reach it).
 current = None
@@ -76,10 +102,12 @@ class TaskPanel:
         # [(object, 'EdgeN' or '' for all its edges)], as the ExtraEdges property holds them
         self.extra_edges = [(ref[0], sub) for ref in mesh_obj.ExtraEdges
                             for sub in (jobmod._subnames(ref) or ("",))]
+        self.diagonal, self.automatic = 0.0, {}  # model size and sizes of the rows shown
         self.form = self.build_form()
         self.load_options()
         self.refresh_inputs()
         self.show_report()
+        self.loaded_state = self.state()
 
     # ------------------------------------------------------------------ model <-> object
 
@@ -90,13 +118,40 @@ class TaskPanel:
         return input_rows.rows_from_object(self.obj, self.fem_materials)
 
     def apply(self):
-        """Write the panel's state into the mesh object (and the FEM materials' References)."""
+        """Write the panel's state into the mesh object (and the FEM materials' References).
+
+        Nothing is written when nothing changed since the panel opened or last applied: a
+        written property touches the mesh object, and a touched mesh is meshed again on the
+        next recompute (minutes on a large assembly)."""
         self.read_tables()
+        state = self.state()
+        if state == self.loaded_state:
+            return
         self.doc.openTransaction("OracleMesh settings")
         try:
             self.write_object()
         finally:
             self.doc.commitTransaction()
+        self.loaded_state = state
+
+    def state(self):
+        """What the panel would write, as comparable values (objects by Name)."""
+        def plain(value):
+            if hasattr(value, "Name") and hasattr(value, "Document"):
+                return value.Name
+            if isinstance(value, dict):
+                return tuple(sorted((k, plain(v)) for k, v in value.items()))
+            if isinstance(value, (list, tuple)):
+                return tuple(plain(v) for v in value)
+            return value
+        rows = tuple(plain(vars(r)) for r in self.rows)
+        return rows, plain(self.extra_edges), self.option_values()
+
+    def option_values(self):
+        return (self.cell_size.value(), self.facet_distance.value(), self.engine.currentData(),
+                self.sharp_angle.value(), self.junctions.isChecked(),
+                self.planar_faces.isChecked(), self.element_order.currentData(),
+                self.optimize.isChecked())
 
     def write_object(self):
         o = self.obj
@@ -118,23 +173,43 @@ class TaskPanel:
         form.setWindowTitle("OracleMesh")
         form.setObjectName("OracleMeshTaskPanel")
         layout = QtGui.QVBoxLayout(form)
+        layout.setContentsMargins(0, 0, 0, 0)  # the task box around the form has its own
 
-        box = QtGui.QGroupBox("Inputs (highest priority first: the first wins where they overlap)")
+        box = QtGui.QGroupBox("Inputs, highest priority first")
+        box.setToolTip("Where inputs overlap, the one higher in the list wins; a cut removes "
+                       "material from the inputs below it. Drag rows or use Up and Down.")
         v = QtGui.QVBoxLayout(box)
         self.inputs = InputTable(self.move_row)
         self.inputs.setHorizontalHeaderLabels(["Input", "Role", "Material"])
+        for i, tip in enumerate(INPUT_COLUMN_TIPS):
+            self.inputs.horizontalHeaderItem(i).setToolTip(tip)
+        self.inputs.setToolTip("Inputs in priority order; drag a row onto another to move it")
         self.inputs.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
         self.inputs.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
         self.inputs.horizontalHeader().setStretchLastSection(True)
         self.inputs.verticalHeader().setVisible(True)
+        fit_columns(self.inputs)
+        show_rows(self.inputs, VISIBLE_ROWS)
         v.addWidget(self.inputs)
-        buttons = QtGui.QHBoxLayout()
+        self.cut_warning = QtGui.QLabel()
+        self.cut_warning.setWordWrap(True)
+        self.cut_warning.setStyleSheet("color: #b00000")
+        self.cut_warning.setToolTip("A cut removes material only from the inputs below it")
+        self.cut_warning.hide()
+        v.addWidget(self.cut_warning)
+        buttons = QtGui.QGridLayout()
         self.up_button = QtGui.QPushButton("Up")
         self.down_button = QtGui.QPushButton("Down")
         self.add_button = QtGui.QPushButton("Add selected")
         self.remove_button = QtGui.QPushButton("Remove")
-        for b in (self.up_button, self.down_button, self.add_button, self.remove_button):
-            buttons.addWidget(b)
+        for k, (b, tip) in enumerate((
+                (self.up_button, "Move the selected input up: higher priority"),
+                (self.down_button, "Move the selected input down: lower priority"),
+                (self.add_button, "Add the solids selected in the tree or the 3D view, at the "
+                                  "end of the list (lowest priority)"),
+                (self.remove_button, "Remove the selected input from the mesh"))):
+            b.setToolTip(tip)
+            buttons.addWidget(b, k // 2, k % 2)
         v.addLayout(buttons)
         self.up_button.clicked.connect(lambda: self.move_selected(-1))
         self.down_button.clicked.connect(lambda: self.move_selected(+1))
@@ -149,13 +224,20 @@ class TaskPanel:
         self.inputs.itemSelectionChanged.connect(self.sync_whole_check)
         layout.addWidget(box)
 
-        box = QtGui.QGroupBox("Sizes (model units; 0 or empty = automatic)")
+        box = QtGui.QGroupBox("Sizes (model units)")
+        box.setToolTip("0 or an empty cell = automatic: the value shown is what the mesher "
+                       "will use")
         v = QtGui.QVBoxLayout(box)
-        grid = QtGui.QFormLayout()
+        grid = narrow_form()
         self.cell_size = self.length_box()
+        self.cell_size.setToolTip("Largest tetrahedron circumradius of every material without "
+                                  "its own cell size (0 = automatic: model diagonal / %g)"
+                                  % sizes.CELL_SIZE_DIVISOR)
         self.facet_distance = self.length_box()
-        grid.addRow("Global cell size", self.cell_size)
-        grid.addRow("Global facet distance", self.facet_distance)
+        self.facet_distance.setToolTip("Largest distance of a surface triangle from the CAD "
+                                       "surface (0 = automatic: facet size / 10)")
+        grid.addRow("Cell size", self.cell_size)
+        grid.addRow("Facet distance", self.facet_distance)
         v.addLayout(grid)
         presets = QtGui.QHBoxLayout()
         self.preset_buttons = {}
@@ -169,37 +251,57 @@ class TaskPanel:
             self.preset_buttons[name] = b
         v.addLayout(presets)
         self.criteria = QtGui.QTableWidget(0, len(CRITERIA_COLUMNS))
-        self.criteria.setHorizontalHeaderLabels([h for _, h in CRITERIA_COLUMNS])
-        self.criteria.setToolTip("Per-material criteria; an empty cell takes the global value")
+        self.criteria.setHorizontalHeaderLabels(
+            [CRITERIA_HEADERS[k][0] for k, _ in CRITERIA_COLUMNS])
+        for i, (key, _) in enumerate(CRITERIA_COLUMNS):
+            self.criteria.horizontalHeaderItem(i).setToolTip(CRITERIA_HEADERS[key][1])
+        self.criteria.setToolTip("Per-material criteria; an empty cell takes the global value, "
+                                 "shown in grey")
+        self.criteria.setItemDelegate(AutomaticDelegate(self.automatic_text, self.criteria))
+        fit_columns(self.criteria)
+        self.criteria.itemChanged.connect(lambda item: self.refresh_automatic())
+        show_rows(self.criteria, VISIBLE_ROWS)
         v.addWidget(self.criteria)
         layout.addWidget(box)
+        self.cell_size.valueChanged.connect(lambda value: self.refresh_automatic())
+        self.facet_distance.valueChanged.connect(lambda value: self.refresh_automatic())
 
         box = QtGui.QGroupBox("Meshing")
-        grid = QtGui.QFormLayout(box)
+        grid = narrow_form(box)
         self.engine = QtGui.QComboBox()
         preferences.add_engines(self.engine)
+        self.engine.setToolTip("Rule Set T (thesis): constrained segments, per-material "
+                               "radius-edge ratio; CGAL Mesh_3: protecting balls")
         grid.addRow("Engine", self.engine)
         self.sharp_angle = QtGui.QDoubleSpinBox()
         self.sharp_angle.setRange(0.0, 180.0)
         self.sharp_angle.setSuffix(" deg")
+        self.sharp_angle.setSpecialValueText("off")
         self.sharp_angle.setToolTip("Edges whose faces meet at more than this angle are kept "
-                                    "as mesh edges (0 = off)")
+                                    "as mesh edges (0 = off: no sharp edges, no junctions)")
         grid.addRow("Sharp-edge angle", self.sharp_angle)
-        self.junctions = QtGui.QCheckBox("Keep junction curves between inputs")
+        self.junctions = QtGui.QCheckBox("Junction curves")
+        self.junctions.setToolTip("Keep the curves where two inputs' boundaries meet (material "
+                                  "junctions) as mesh edges")
         grid.addRow(self.junctions)
-        self.planar_faces = QtGui.QCheckBox("Keep planar faces flat (thesis engine)")
+        self.planar_faces = QtGui.QCheckBox("Flat planar faces")
         self.planar_faces.setToolTip("Planar faces bounded by sharp edges, such as planar contact "
-                                     "faces of an assembly, are meshed as planes")
+                                     "faces of an assembly, are meshed as planes (thesis engine; "
+                                     "needs a sharp-edge angle and junction curves)")
         grid.addRow(self.planar_faces)
         self.element_order = QtGui.QComboBox()
         self.element_order.addItem("1 - linear (C3D4)", 1)
         self.element_order.addItem("2 - quadratic (C3D10)", 2)
+        self.element_order.setToolTip("Quadratic tetrahedra have their mid nodes on the CAD "
+                                      "faces and curves")
         grid.addRow("Element order", self.element_order)
-        self.optimize = QtGui.QCheckBox("Remove slivers (perturb and exude)")
+        self.optimize = QtGui.QCheckBox("Remove slivers")
+        self.optimize.setToolTip("Remove flat tetrahedra after meshing (perturb and exude)")
         grid.addRow(self.optimize)
         layout.addWidget(box)
 
-        box = QtGui.QGroupBox("Extra edges (kept as mesh edges)")
+        box = QtGui.QGroupBox("Extra mesh edges")
+        box.setToolTip("Curves kept as chains of mesh edges")
         v = QtGui.QVBoxLayout(box)
         self.extra_list = QtGui.QListWidget()
         self.extra_list.setToolTip("Edges picked in the 3D view and whole sketches or shapes "
@@ -208,7 +310,10 @@ class TaskPanel:
         v.addWidget(self.extra_list)
         buttons = QtGui.QHBoxLayout()
         self.extra_add_button = QtGui.QPushButton("Add selection")
+        self.extra_add_button.setToolTip("Add the edges picked in the 3D view, or the sketches "
+                                         "and shapes selected in the tree")
         self.extra_remove_button = QtGui.QPushButton("Remove")
+        self.extra_remove_button.setToolTip("Remove the selected extra edges")
         buttons.addWidget(self.extra_add_button)
         buttons.addWidget(self.extra_remove_button)
         v.addLayout(buttons)
@@ -218,7 +323,9 @@ class TaskPanel:
 
         actions = QtGui.QHBoxLayout()
         self.apply_button = QtGui.QPushButton("Apply")
+        self.apply_button.setToolTip("Write the settings into the mesh object (no meshing)")
         self.mesh_button = QtGui.QPushButton("Mesh")
+        self.mesh_button.setToolTip("Apply, then mesh now (a progress dialog can cancel it)")
         self.apply_button.clicked.connect(self.apply_clicked)
         self.mesh_button.clicked.connect(self.mesh)
         actions.addWidget(self.apply_button)
@@ -227,16 +334,65 @@ class TaskPanel:
 
         self.report = QtGui.QTextBrowser()
         self.report.setMinimumHeight(120)
+        self.report.setToolTip("The last mesh, or why meshing failed; warnings about the inputs")
         layout.addWidget(self.report)
+        for button in form.findChildren(QtGui.QPushButton):
+            fit_text(button)
         return form
 
     @staticmethod
     def length_box():
         box = QtGui.QDoubleSpinBox()
-        box.setRange(0.0, 1e9)
+        box.setRange(0.0, 1e6)
         box.setDecimals(4)
         box.setSpecialValueText("automatic")
         return box
+
+    # ------------------------------------------------------------------ automatic sizes
+
+    def automatic_sizes(self):
+        """(resolved defaults, {row index in the criteria table: resolved criteria}) as the
+        core will resolve the panel's current settings."""
+        given = {}
+        for prop, key in jobmod.CRITERIA_PROPERTIES:
+            value = jobmod._value(getattr(self.obj, prop))
+            if value > 0:
+                given[key] = value
+        for key, box in (("cell_size", self.cell_size), ("facet_distance", self.facet_distance)):
+            given.pop(key, None)
+            if box.value() > 0:
+                given[key] = box.value()
+        defaults = sizes.resolved_defaults(self.diagonal, given)
+        materials = [r for r in self.rows if r.role == "material"]
+        per_row = {}
+        for i, r in enumerate(materials):
+            own = {}
+            for j, (key, _) in enumerate(CRITERIA_COLUMNS):
+                item = self.criteria.item(i, j)
+                try:
+                    value = float(item.text()) if item is not None and item.text().strip() else 0
+                except ValueError:
+                    value = 0
+                if value > 0:
+                    own[key] = value
+            per_row[i] = sizes.resolved_material(defaults, own)
+        return defaults, per_row
+
+    def automatic_text(self, row, column):
+        """Text of an empty criteria cell: the value that material will get."""
+        per_row = self.automatic.get(row)
+        if per_row is None or self.diagonal <= 0:
+            return ""
+        return "%.4g" % per_row[CRITERIA_COLUMNS[column][0]]
+
+    def refresh_automatic(self):
+        """Show in every "automatic" the value the core will use."""
+        defaults, self.automatic = self.automatic_sizes()
+        for key, box in (("cell_size", self.cell_size), ("facet_distance", self.facet_distance)):
+            box.setSpecialValueText("automatic (%.4g)" % defaults[key] if self.diagonal > 0
+                                    else "automatic")
+        self.criteria.resizeColumnsToContents()  # the automatic texts are no cell data
+        self.criteria.viewport().update()
 
     def load_options(self):
         o = self.obj
@@ -281,6 +437,26 @@ class TaskPanel:
                 value = r.sizes.get(key)
                 self.criteria.setItem(i, j, QtGui.QTableWidgetItem(
                     "" if value is None else "%g" % value))
+        self.rows_changed()
+
+    def rows_changed(self):
+        """What follows from the rows: the model size behind "automatic", the cut warning,
+        the tooltips of the cell widgets."""
+        self.diagonal = sizes.model_diagonal([r.obj for r in self.rows if r.role == "material"])
+        self.refresh_automatic()
+        warnings = cut_warnings([(r.obj, r.role) for r in self.rows])
+        self.cut_warning.setText("\n".join(warnings))
+        self.cut_warning.setVisible(bool(warnings))
+        for i in range(self.criteria.rowCount()):
+            item = self.criteria.verticalHeaderItem(i)
+            if item is not None:
+                item.setToolTip("%s: empty cells take the global value, shown in grey"
+                                % item.text())
+        for i in range(self.inputs.rowCount()):
+            for j, tip in enumerate(INPUT_COLUMN_TIPS):
+                widget = self.inputs.cellWidget(i, j)
+                if widget is not None and not widget.toolTip():
+                    widget.setToolTip(tip)
 
     def read_tables(self):
         """Criteria table cells -> rows (the other widgets write into rows as they change)."""
@@ -362,12 +538,17 @@ class TaskPanel:
     def add_selected(self):
         self.read_tables()
         present = {r.obj.Name for r in self.rows}
-        for obj in selected_solids():
+        accepted = selected_solids()
+        for obj in accepted:
             if obj.Name not in present and obj != self.obj:
                 self.rows += input_rows.rows_for_object(
                     self.obj, self.fem_materials, obj, obj in self.obj.WholeInputs,
                     [r.label for r in self.rows])
         self.refresh_inputs()
+        refused = [refusal(o) for o in FreeCADGui.Selection.getSelection() if o not in accepted]
+        if any(refused):
+            self.report.setPlainText("Not added: %s. %s." % ("; ".join(r for r in refused if r),
+                                                             ACCEPTED))
 
     def remove_selected(self):
         i = self.selected_row()
@@ -425,6 +606,7 @@ class TaskPanel:
         except jobmod.MeshInputError as e:  # a bad table cell: say which, change nothing
             self.report.setPlainText(str(e))
             return False
+        self.show_report()
         return True
 
     def mesh(self):
@@ -434,14 +616,35 @@ class TaskPanel:
         except jobmod.MeshInputError as e:
             self.report.setPlainText(str(e))
             return False
+        except Exception as e:  # FreeCAD refused a property: say so, not only in the report view
+            self.report.setPlainText("The settings could not be written: %s" % e)
+            QtGui.QMessageBox.critical(self.form, "OracleMesh", self.report.toPlainText())
+            return False
         self.doc.openTransaction("OracleMesh mesh")
-        self.obj.touch()
-        self.doc.recompute()
-        self.doc.commitTransaction()
+        try:
+            self.obj.touch()
+            self.doc.recompute()
+        except Exception as e:  # the mesh object reports its own failures; this is anything else
+            self.obj.Status = "OracleMesh '%s' failed: %s" % (self.obj.Label, e)
+            QtGui.QMessageBox.critical(self.form, "OracleMesh", self.obj.Status)
+        finally:
+            self.doc.commitTransaction()
+        ok = bool(self.obj.isValid()) and self.obj.FemMesh.VolumeCount > 0
         # A selected mesh is drawn all in FreeCAD's highlight colour, over the material colours.
         FreeCADGui.Selection.removeSelection(self.obj)
+        self.show_inputs(not ok and self.obj.FemMesh.VolumeCount == 0)
         self.show_report()
-        return self.obj.isValid()
+        return ok
+
+    def show_inputs(self, visible):
+        """The inputs while there is no mesh, else the mesh alone (a failed first mesh must
+        not leave an empty view)."""
+        for r in self.rows:
+            view = getattr(r.obj, "ViewObject", None)
+            if view is not None and view.Visibility != visible:
+                view.Visibility = visible
+        if self.obj.ViewObject is not None:
+            self.obj.ViewObject.Visibility = True
 
     def show_report(self):
         self.report.setHtml(report_html(self.obj))
@@ -476,13 +679,22 @@ class TaskPanel:
 def report_html(obj):
     """The last mesh's report as short HTML: status, per material counts, quality, warnings."""
     esc = lambda s: (str(s).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;"))  # noqa: E731
-    parts = ["<p><b>%s</b></p>" % esc(obj.Status or "Not meshed yet.")]
-    if not obj.Report:
-        return "".join(parts)
+    failed = not obj.isValid() or "failed" in obj.Status
+    parts = ['<p style="color:%s"><b>%s</b></p>' % ("#b00000" if failed else "black",
+                                                     esc(obj.Status or "Not meshed yet."))]
     try:
-        report = json.loads(obj.Report)
+        report = json.loads(obj.Report) if obj.Report else {}
     except ValueError:
+        report = {}
+    warnings = list(report.get("warnings", []))
+    warnings += input_warnings(obj)
+    if warnings:
+        parts.append("<p><b>Warnings</b></p><ul>%s</ul>"
+                     % "".join("<li>%s</li>" % esc(w) for w in warnings))
+    if not report:
         return "".join(parts)
+    if failed:
+        parts.append("<p>The previous mesh, kept:</p>")
     counts = report.get("counts", {})
     per_material = counts.get("tets_per_material", {})
     volumes = report.get("volume_per_material", {})
@@ -502,13 +714,19 @@ def report_html(obj):
                  % (counts.get("vertices", "?"), counts.get("tets", "?"),
                     q.get("min_dihedral_deg", float("nan")), q.get("max_dihedral_deg", float("nan")),
                     q.get("max_radius_edge_ratio", float("nan"))))
-    warnings = list(report.get("warnings", []))
-    warnings += input_warnings(obj)
-    if warnings:
-        parts.append("<p><b>Warnings</b></p><ul>%s</ul>"
-                     % "".join("<li>%s</li>" % esc(w) for w in warnings))
-    seconds = report.get("seconds", {})
-    if seconds:
-        total = sum(v for k, v in seconds.items() if not k.startswith("mesh3_"))
-        parts.append("<p>%.1f s</p>" % total)
+    seconds = wall_seconds(report)
+    if seconds is not None:
+        parts.append("<p>Meshed in %.1f s</p>" % seconds)
     return "".join(parts)
+
+
+def wall_seconds(report):
+    """Seconds the user waited for the mesh; for reports of older versions, the sum of the
+    core's top-level phases (engine phases named thesis_*, mesh3_* nest inside them)."""
+    wall = report.get("freecad", {}).get("wall_seconds")
+    if wall is not None:
+        return float(wall)
+    seconds = report.get("seconds", {})
+    if not seconds:
+        return None
+    return sum(v for k, v in seconds.items() if not k.startswith(("mesh3_", "thesis_")))

@@ -37,6 +37,7 @@ def check(params):
         "too_many_vertices": {"CellSize": 0.05, "MaxVertices": 1000},
         "not_a_shape": {"Inputs": [good, group]},
         "unknown_size_key": {"InputSizes": {"Nope": "1"}},
+        "listed_twice": {"Inputs": [good, good]},
     }
     out = {}
     for case, props in cases.items():
@@ -48,6 +49,7 @@ def check(params):
             "valid": mesh.isValid(),
             "state": list(mesh.State),
             "status": mesh.Status,
+            "kinds": list(mesh.InputKinds),
             "mesh_kept": (mesh.FemMesh.VolumeCount, mesh.FemMesh.NodeCount) == baseline,
             "objects_kept": sorted(o.Name for o in doc.Objects) == names,
         }

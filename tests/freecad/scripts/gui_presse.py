@@ -12,7 +12,6 @@ Writes what it measured as JSON to $OMFC_RESULT; test_gui_presse.py judges it. P
 (optional) overrides the element order of both meshes.
 """
 import hashlib
-import json
 import os
 import sys
 import time
@@ -23,7 +22,12 @@ STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"
 
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from gui_steps import pump, step  # noqa: E402
+from gui_script import main, pump  # noqa: E402
+
+
+def step(text):
+    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
+        f.write("%.1f %s\n" % (time.time(), text))
 
 
 def mesh_fingerprint(mesh_obj):
@@ -210,12 +214,4 @@ def check(out):
     step("done")
 
 
-result = {"ok": True}
-try:
-    check(result)
-except BaseException:
-    result["ok"] = False
-    result["traceback"] = traceback.format_exc()
-with open(os.environ["OMFC_RESULT"], "w") as f:
-    json.dump(result, f, indent=1, default=str)
-os._exit(0)
+main(check)

@@ -19,11 +19,15 @@ import json
 import os
 import sys
 import time
-import traceback
-
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from gui_steps import pump, step  # noqa: E402
+from gui_script import main, pump  # noqa: E402
+
+
+def step(text):
+    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
+        f.write("%.1f %s\n" % (time.time(), text))
+
 
 
 def group_volumes(mesh_obj):
@@ -450,12 +454,4 @@ def worker_children():
     return live_worker_children()
 
 
-result = {"ok": True}
-try:
-    check(result)
-except BaseException:
-    result["ok"] = False
-    result["traceback"] = traceback.format_exc()
-with open(os.environ["OMFC_RESULT"], "w") as f:
-    json.dump(result, f, indent=1, default=str)
-os._exit(0)
+main(check)
