@@ -215,7 +215,7 @@ class TaskPanel:
         self.down_button.clicked.connect(lambda: self.move_selected(+1))
         self.add_button.clicked.connect(self.add_selected)
         self.remove_button.clicked.connect(self.remove_selected)
-        self.whole_check = QtGui.QCheckBox("Treat the selected compound as one input")
+        self.whole_check = QtGui.QCheckBox("Treat as one input")
         self.whole_check.setToolTip("One row, one material and one volume group for all solids "
                                     "of the selected compound, instead of one row per solid")
         self.whole_check.setEnabled(False)
