@@ -109,6 +109,17 @@ inline std::set<int64_t> boundaryNodes(const TetMesh& m) {
   return nodes;
 }
 
+// Feature edges that are no edge of any tet (FreeCAD's hand-off looks each one up among
+// the tets' edges); independent of the core's own count.
+inline int64_t featureEdgesNotTetEdges(const TetMesh& m) {
+  std::set<std::pair<int64_t, int64_t>> edges;
+  for (const auto& t : m.tets)
+    for (const auto& e : kTetEdges) edges.insert(std::minmax(t[e[0]], t[e[1]]));
+  int64_t missing = 0;
+  for (const auto& [a, b] : m.feature_edges) missing += edges.count(std::minmax(a, b)) == 0;
+  return missing;
+}
+
 struct Conformity {
   int64_t faces_shared_by_more_than_two = 0;
   int64_t open_boundary_edges = 0;  // edges in an odd number of one material's boundary faces

@@ -156,6 +156,30 @@ TEST(MeshTopology, CornersThatAreNotIndicesOfPointsAreAnError) {
   EXPECT_THROW(checkConformity(cube), Error);
 }
 
+// The final check of every job's mesh: the cube's diagonal 0-7 is an edge of all six tets,
+// its face diagonal 1-2 of none (the face z = 0 is split along 0-3).
+TEST(MeshTopology, AFeatureEdgeThatIsNoTetEdgeIsAnErrorNamingIt) {
+  TetMesh cube = test::kuhnCube();
+  cube.feature_edges = {{0, 7}, {7, 3}};
+  cube.feature_edge_curves = {0, 0};
+  EXPECT_EQ(featureEdgesNotTetEdges(cube), 0);
+  EXPECT_NO_THROW(requireFeatureEdgesInTets(cube));
+  cube.feature_edges.push_back({1, 2});
+  cube.feature_edge_curves.push_back(1);
+  size_t first = 99;
+  EXPECT_EQ(featureEdgesNotTetEdges(cube, &first), 1);
+  EXPECT_EQ(first, 2u);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(cube), 1);
+  try {
+    requireFeatureEdgesInTets(cube);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("1 of 3 feature edges"), std::string::npos) << message;
+    EXPECT_NE(message.find("from (1, 0, 0) to (0, 1, 0)"), std::string::npos) << message;
+  }
+}
+
 // A rebuilt mesh (CGAL's perturbation: vertices moved and renumbered) keeps a recorded
 // boundary entry only where a point is still exactly where it was.
 TEST(MeshTopology, BoundaryEntriesFollowUnmovedPointsOnly) {

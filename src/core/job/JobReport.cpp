@@ -76,6 +76,9 @@ json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>
                        {"constrained_subsegments", stats.constrained_subsegments},
                        {"final_check",
                         {{"subsegments_not_edges", stats.subsegments_not_edges},
+                         {"subsegments_outside_material", stats.subsegments_outside_material},
+                         {"subsegments_kept_by_barycentre", stats.subsegments_kept_by_barycentre},
+                         {"cells_labelled_by_barycentre", stats.cells_labelled_by_barycentre},
                          {"encroached_subsegments", stats.encroached_subsegments},
                          {"restricted_facets_off_boundary", stats.restricted_facets_off_boundary}}},
                        {"elements_left", left},
@@ -149,6 +152,7 @@ json boundarySnapJson(const SnapReport& s, double diagonal) {
           {"vertices_on_boundary_by_engine", snap.on_boundary_by_engine},
           {"vertices_kept_off_surface", snap.kept_off_surface},
           {"flat_surface_slivers_removed", snap.slivers_removed},
+          {"flat_surface_slivers_kept_on_feature_edges", snap.slivers_kept_on_feature_edges},
           {"max_distance_kept_off_surface", snap.max_distance_kept},
           {"min_dihedral_before_deg", s.min_dihedral_before_deg}};
 }

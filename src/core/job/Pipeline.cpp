@@ -75,6 +75,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     clock.finish("second_order");
   }
 
+  // The final checks. A feature edge that is no tet edge is an error, never a mesh returned.
+  requireFeatureEdgesInTets(mesh);
   report.quality = measureQuality(mesh);
   report.conformity = checkConformity(mesh);
   report.counts = {mesh.points.size(), mesh.tets.size(), mesh.boundary.size(), mesh.feature_edges.size()};

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
-#include <unordered_set>
 
 #include "Error.h"
 #include "mesh/Topology.h"
@@ -14,24 +13,6 @@
 namespace oraclemesh {
 
 namespace {
-
-uint64_t edgeKey(int64_t a, int64_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(a) << 32) | static_cast<uint64_t>(b);
-}
-
-// Feature edges of `mesh` that are not edges of any of its tets (0 when every constrained
-// subsegment is a mesh edge).
-int64_t featureEdgesMissingFromTets(const TetMesh& mesh) {
-  std::unordered_set<uint64_t> tetEdges;
-  tetEdges.reserve(mesh.tets.size() * 7);
-  for (const auto& t : mesh.tets)
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) tetEdges.insert(edgeKey(t[a], t[b]));
-  int64_t missing = 0;
-  for (const auto& e : mesh.feature_edges) missing += tetEdges.count(edgeKey(e[0], e[1])) == 0;
-  return missing;
-}
 
 // A refinement stopped by a limit leaves its mesh so far next to each output file
 // (mesh.vtu -> mesh.partial.vtu) for inspection; returns what to add to the error message.
@@ -137,7 +118,7 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
     // them keep the boundary entry it recorded.
     carryBoundaryEntries(beforePerturbation, result.mesh);
     for (const auto& [phase, sec] : optimizeStats.seconds) clock.seconds["thesis_" + phase] = sec;
-    const int64_t dropped = featureEdgesMissingFromTets(result.mesh) +
+    const int64_t dropped = featureEdgesNotTetEdges(result.mesh) +
                             std::max<int64_t>(0, static_cast<int64_t>(beforePerturbation.feature_edges.size()) -
                                                      static_cast<int64_t>(result.mesh.feature_edges.size()));
     if (dropped > 0) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <unordered_map>
 
 #include "mesh/Quality.h"
 #include "mesh/Topology.h"
@@ -32,7 +33,7 @@ std::vector<std::vector<int64_t>> tetsOfVertices(const TetMesh& mesh) {
 
 }  // namespace
 
-int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target) {
+int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target, int64_t& keptOnFeatureEdges) {
   // The outer faces are the boundary triangles with nothing beyond them (mesh.boundary is
   // current when the snap runs).
   std::set<std::array<int64_t, 3>> outer;
@@ -51,6 +52,17 @@ int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& targe
     return f;
   };
   std::set<std::array<int64_t, 3>> exposed;  // inner faces of tets removed in this pass
+  // Tets left on each feature edge: the last one stays.
+  std::unordered_map<uint64_t, int> tetsOnFeatureEdge;
+  for (const auto& e : mesh.feature_edges) tetsOnFeatureEdge[undirectedEdgeKey(e[0], e[1])] = 0;
+  auto forFeatureEdgesOf = [&](size_t t, auto&& f) {
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        auto it = tetsOnFeatureEdge.find(undirectedEdgeKey(mesh.tets[t][a], mesh.tets[t][b]));
+        if (it != tetsOnFeatureEdge.end()) f(it->second);
+      }
+  };
+  for (size_t t = 0; t < mesh.tets.size(); ++t) forFeatureEdgesOf(t, [](int& n) { ++n; });
   std::vector<char> remove(mesh.tets.size(), 0);
   int64_t removed = 0;
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
@@ -66,6 +78,13 @@ int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& targe
     if (outside < 2 || outside > 3 || nextToRemoved) continue;
     const auto& c = mesh.tets[t];
     if (tetVolume(target[c[0]], target[c[1]], target[c[2]], target[c[3]]) > 0) continue;
+    bool lastOnFeatureEdge = false;
+    forFeatureEdgesOf(t, [&](int& n) { lastOnFeatureEdge |= n == 1; });
+    if (lastOnFeatureEdge) {
+      ++keptOnFeatureEdges;
+      continue;
+    }
+    forFeatureEdgesOf(t, [](int& n) { --n; });
     remove[t] = 1;
     ++removed;
     for (int k = 0; k < 4; ++k)
@@ -123,7 +142,7 @@ BoundarySnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle&
     target[v] = q.point;
     move[v] = q.distance;
   }
-  r.slivers_removed = removeFlatSurfaceSlivers(mesh, target);
+  r.slivers_removed = removeFlatSurfaceSlivers(mesh, target, r.slivers_kept_on_feature_edges);
   const std::vector<std::vector<int64_t>> tetsOfVertex = tetsOfVertices(mesh);
   // A move that would fold a tet now may be fine once the tet's other corners have moved
   // (neighbouring nodes on two curves meeting at a small angle): passes over the nodes still

@@ -22,6 +22,7 @@ struct BoundarySnapStatistics {
   // tet that could not be removed (interface slivers, where curves meet at small angles).
   int64_t kept_off_surface = 0;
   int64_t slivers_removed = 0;  // flat tets on the outer surface (see removeFlatSurfaceSlivers)
+  int64_t slivers_kept_on_feature_edges = 0;  // flat ones kept: the last tet on a feature edge
   // Surface vertices the engine put exactly on a known entry's boundary (mesh.vertex_boundary_entry),
   // taken as they are instead of projected again.
   int64_t on_boundary_by_engine = 0;
@@ -38,9 +39,11 @@ struct BoundarySnapResult {
 // sharp edge) that go flat or inside out once their corners are on the CAD faces. Such a tet
 // with two or three faces on the outside holds no volume of the part: removing it leaves its
 // other faces as the (equally flat) surface there. Interface slivers are not removed (that
-// would open the interface); the snap leaves their corners where they are instead.
+// would open the interface); the snap leaves their corners where they are instead. Nor is the
+// last tet on a feature edge (the edge would leave the mesh; thesis cells labelled by their
+// barycentre at a convex edge are such tets): counted in `keptOnFeatureEdges`.
 // `target`: where each vertex is about to go. Returns the number of tets removed.
-int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target);
+int64_t removeFlatSurfaceSlivers(TetMesh& mesh, const std::vector<Point3>& target, int64_t& keptOnFeatureEdges);
 
 // Moves every vertex on mesh.boundary (which must be current) or on a feature curve onto its
 // curve (`curves`), else onto the nearest boundary of the oracle, unless the move would

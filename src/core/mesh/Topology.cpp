@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <sstream>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "Error.h"
 #include "mesh/Quality.h"
@@ -142,6 +144,36 @@ void requireConsistentIndices(const TetMesh& mesh) {
     for (int64_t v : mesh.boundary[i].v) requireIndex(v, n, "boundary triangle", i);
   for (size_t i = 0; i < mesh.feature_edges.size(); ++i)
     for (int64_t v : mesh.feature_edges[i]) requireIndex(v, n, "feature edge", i);
+}
+
+int64_t featureEdgesNotTetEdges(const TetMesh& mesh, size_t* first) {
+  requireConsistentIndices(mesh);
+  std::unordered_set<uint64_t> tetEdges;
+  tetEdges.reserve(mesh.tets.size() * 7);
+  for (const auto& t : mesh.tets)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) tetEdges.insert(undirectedEdgeKey(t[a], t[b]));
+  int64_t missing = 0;
+  for (size_t i = 0; i < mesh.feature_edges.size(); ++i) {
+    if (tetEdges.count(undirectedEdgeKey(mesh.feature_edges[i][0], mesh.feature_edges[i][1]))) continue;
+    if (missing++ == 0 && first) *first = i;
+  }
+  return missing;
+}
+
+void requireFeatureEdgesInTets(const TetMesh& mesh) {
+  size_t first = 0;
+  const int64_t missing = featureEdgesNotTetEdges(mesh, &first);
+  if (missing == 0) return;
+  const Point3& a = mesh.points[mesh.feature_edges[first][0]];
+  const Point3& b = mesh.points[mesh.feature_edges[first][1]];
+  std::ostringstream message;
+  message << "internal error: " << missing << " of " << mesh.feature_edges.size()
+          << " feature edges (sharp, junction or polyline edges) are no edge of any tetrahedron, the first from ("
+          << a[0] << ", " << a[1] << ", " << a[2] << ") to (" << b[0] << ", " << b[1] << ", " << b[2]
+          << "): the mesh would not keep those edges; please report this with the job file (a smaller edge_size "
+             "there, or the other engine, may avoid it)";
+  throw Error(message.str());
 }
 
 std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh) {

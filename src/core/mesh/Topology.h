@@ -3,6 +3,7 @@
 // mesh from a broken one (non-manifold faces, holes in a material's boundary, folded tets,
 // tet10 mid nodes that neighbouring tets do not share).
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "mesh/TetMesh.h"
@@ -13,6 +14,22 @@ namespace oraclemesh {
 // index out of range, one material per tet missing, a per-vertex array of the wrong length).
 // Such a mesh is a bug upstream; every function of mesh/ calls this before reading indices.
 void requireConsistentIndices(const TetMesh& mesh);
+
+// An undirected edge (a, b) as one key (point indices below 2^32).
+inline uint64_t undirectedEdgeKey(int64_t a, int64_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(a) << 32) | static_cast<uint64_t>(b);
+}
+
+// Feature edges of `mesh` that are no edge of any of its tets (0 when every constrained
+// subsegment is a mesh edge); `first`, if given, gets the index of the first such edge.
+int64_t featureEdgesNotTetEdges(const TetMesh& mesh, size_t* first = nullptr);
+
+// The final check of every mesh a job returns: a feature edge is a constrained segment the
+// job asked to keep (a sharp edge, a junction, a polyline), and FreeCAD finds its mid node
+// and draws it from the tets' edges. Throws oraclemesh::Error (an internal error naming the
+// count and the first such edge) when one is no tet edge: no phase may drop one silently.
+void requireFeatureEdgesInTets(const TetMesh& mesh);
 
 // Every tet face on the material boundary, once: faces with a tet on one side only (the
 // outside, material_out = 0) and faces between tets of different materials.

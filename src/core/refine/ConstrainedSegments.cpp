@@ -6,7 +6,13 @@
 //     shortest one there is split at that shortest length from the star vertex, so all splits
 //     around a star vertex happen on spheres of radius l_min,i / 3 / 2^k (counted "T1.2 shell");
 //   - terminator: next to a small input angle a short subsegment that is still a Delaunay edge
-//     is left encroached (encroachmentTerminatorRefuses).
+//     is left encroached (encroachmentTerminatorRefuses);
+//   - T1.3: a subsegment that is a Delaunay edge of no cell with a material label would be
+//     lost from the mesh (every cell around it labelled outside by its circumcentre: a chord
+//     of a small hole, the convex edge of a thin plate): it is split at its midpoint, down to
+//     twice the terminator length, and rule P undoes a move that would lose one. Where the
+//     terminator stops it (curves meeting at a small angle), the cells around it whose
+//     barycentre lies in a material take that material (keepSubsegmentsInMaterial).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -66,6 +72,41 @@ bool RuleSetTRefiner::encroached(const Subsegment& s) const {
   return false;
 }
 
+bool RuleSetTRefiner::outsideEveryMaterial(const Subsegment& s) const {
+  CH c;
+  int i, j;
+  if (!dt_.is_edge(s.a, s.b, c, i, j)) return false;
+  auto circ = dt_.incident_cells(c, i, j), done = circ;
+  do
+    if (!dt_.is_infinite(circ) && circ->info().label > 0) return false;
+  while (++circ != done);
+  return true;
+}
+
+// After the last vertex move: around a subsegment that is still an edge of no labelled cell,
+// the cells whose barycentre lies in a material get that material (what the barycentre
+// assignment would give them), so the mesh keeps the constraint. One none of whose cells has
+// its barycentre in a material stays lost; the final check counts it.
+void RuleSetTRefiner::keepSubsegmentsInMaterial() {
+  for (const Subsegment& s : segments_) {
+    if (!s.alive || !outsideEveryMaterial(s)) continue;
+    CH c;
+    int i, j;
+    dt_.is_edge(s.a, s.b, c, i, j);
+    bool kept = false;
+    auto circ = dt_.incident_cells(c, i, j), done = circ;
+    do {
+      if (dt_.is_infinite(circ)) continue;
+      const int label = oracle_.label(barycentre(circ));
+      if (label <= 0) continue;
+      circ->info().label = label;
+      ++stats_.cells_labelled_by_barycentre;
+      kept = true;
+    } while (++circ != done);
+    stats_.subsegments_kept_by_barycentre += kept;
+  }
+}
+
 int RuleSetTRefiner::starAt(VH v) const {
   auto it = starOfVertex_.find(v->info().id);
   return it == starOfVertex_.end() ? -1 : it->second;
@@ -92,6 +133,9 @@ RuleSetTRefiner::SegmentSplit RuleSetTRefiner::badSegmentSplit(int index, bool a
       return {"T1.2 shell", splitPointOnCurve(s, from + (shortest / len) * (to - from), &from, shortest)};
   }
   if (assumeEncroached || encroached(s)) return {"T1.2", splitPointOnCurve(s, 0.5 * (a + b))};
+  // The terminator bounds T1.3 as it bounds T1.2: where curves meet at 0 degrees (the nut of
+  // presse_asm.step) pieces far below it are still lost, and would only add elements left.
+  if (len / 2 >= terminatorLength_ && outsideEveryMaterial(s)) return {"T1.3", splitPointOnCurve(s, 0.5 * (a + b))};
   return {};
 }
 

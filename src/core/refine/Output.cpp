@@ -67,9 +67,11 @@ TetMesh RuleSetTRefiner::extract() const {
 
 void RuleSetTRefiner::finalCheck() {
   stats_.constrained_subsegments = stats_.subsegments_not_edges = stats_.encroached_subsegments = 0;
+  stats_.subsegments_outside_material = 0;
   for (const Subsegment& s : segments_) {
     if (!s.alive) continue;
     ++stats_.constrained_subsegments;
+    stats_.subsegments_outside_material += outsideEveryMaterial(s);
     CH c;
     int i, j;
     if (!dt_.is_edge(s.a, s.b, c, i, j)) ++stats_.subsegments_not_edges;

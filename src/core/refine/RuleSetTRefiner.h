@@ -3,7 +3,8 @@
 // it refines, what it keeps on vertices, cells, facets and subsegments, its queues, and the
 // class whose levels are defined one file each, in the thesis' order (Rule Set T, thesis
 // §3.3.1):
-//   ConstrainedSegments.cpp  T1   bad constrained subsegments (star-vertex rules, encroachment)
+//   ConstrainedSegments.cpp  T1   bad constrained subsegments (star-vertex rules, encroachment,
+//                                 subsegments no labelled cell has)
 //   PlanarFaceLayer.cpp      TP   planar faces (thesis §4.1), a layer behind RefinementHook
 //   RestrictedFacets.cpp     T2   restricted facets and their surface Delaunay balls
 //   Cells.cpp                T3   cells inside the materials
@@ -212,6 +213,10 @@ class RuleSetTRefiner {
   void addSegment(VH a, VH b, int curve);
   void removeSegment(int index);
   bool encroached(const Subsegment& s) const;
+  // A Delaunay edge none of whose cells has a material label: the mesh would not have it (T1.3).
+  bool outsideEveryMaterial(const Subsegment& s) const;
+  // T1.3's last resort once no vertex moves any more (keepSubsegmentsInMaterial).
+  void keepSubsegmentsInMaterial();
   int starAt(VH v) const;
   double shortestAtStar(int star) const;
   SegmentSplit badSegmentSplit(int index, bool assumeEncroached) const;

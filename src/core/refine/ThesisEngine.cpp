@@ -65,6 +65,7 @@ TetMesh RuleSetTRefiner::run() {
   listLeftElements();
   perturbSlivers();
   phase("vertex_moves");
+  keepSubsegmentsInMaterial();
   TetMesh mesh = extract();
   listLeftSlivers();
   phase("extract");

@@ -71,7 +71,7 @@ struct LeftElement {
 
 struct RuleSetTStatistics {
   std::map<std::string, double> seconds;     // per phase
-  // Points inserted, per rule: T1.1, T1.2, "T1.2 shell", T2.1, T2.2, T3.1-T3.4, TP.1, TP.2 and
+  // Points inserted, per rule: T1.1, T1.2, "T1.2 shell", T1.3, T2.1, T2.2, T3.1-T3.4, TP.1, TP.2 and
   // the sliver rule's sliver.near_centre, sliver.segment, sliver.ball_segment, sliver.ball_centre.
   std::map<std::string, int64_t> insertions;
   int64_t vertex_moves = 0;           // rule P's moves (they insert nothing)
@@ -90,6 +90,13 @@ struct RuleSetTStatistics {
   // queries): subsegments that are not Delaunay edges or have a vertex in their diametral
   // ball, restricted facets with a vertex off the boundary. All zero unless elements are left.
   int64_t subsegments_not_edges = 0;
+  // Delaunay edges of no cell with a material label: not in the mesh (T1.3 leaves none when
+  // some cell around each has its barycentre in a material).
+  int64_t subsegments_outside_material = 0;
+  // T1.3's last resort: subsegments kept in the mesh by labelling the cells around them by
+  // their barycentre, and how many cells that labelled.
+  int64_t subsegments_kept_by_barycentre = 0;
+  int64_t cells_labelled_by_barycentre = 0;
   int64_t encroached_subsegments = 0;
   int64_t restricted_facets_off_boundary = 0;
   PlanarFaceStatistics planar;

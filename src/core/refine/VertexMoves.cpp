@@ -8,8 +8,9 @@
 // corners move (never segment vertices, bounding corners or vertices the planar-face layer
 // tracks), a surface corner goes back onto the boundary through the oracle's projection,
 // and a move stays only when the smallest dihedral angle of the cells it replaces rises,
-// every subsegment there stays an unencroached edge, and every new facet between two
-// labels is a restricted facet on boundary vertices that meets the facet criteria. CGAL's
+// every subsegment there stays an unencroached edge of a labelled cell (T1.3), and every new
+// facet between two labels is a restricted facet on boundary vertices that meets the facet
+// criteria. CGAL's
 // perturbation still runs on whatever is left (Pipeline). Candidate targets are screened
 // cheaply first: the corner's cells with the corner moved, before any Delaunay update.
 #include <algorithm>
@@ -295,6 +296,7 @@ bool RuleSetTRefiner::moveKeepsGuarantees(VH v, const std::vector<CH>& fresh, co
     CH c;
     int i, j;
     if (!dt_.is_edge(seg.a, seg.b, c, i, j) || strictlyInDiametralBall(v->point(), seg)) return false;
+    if (outsideEveryMaterial(seg)) return false;  // the mesh would lose it (T1.3)
   }
   for (CH c : fresh)
     for (int i = 0; i < 4; ++i) {
