@@ -296,7 +296,9 @@ def build_job(mesh_obj):
         raise MeshInputError(
             "'%s' has no inputs: add solids to its Inputs property, highest priority first "
             "(or select solids and run 'Mesh selection with OracleMesh')" % mesh_obj.Label)
-    entries = input_parts(mesh_obj)
+    # Labels the panel or makeMesh did not store stay '<Label> SolidK': no STEP file is read
+    # (into a scratch document) during a recompute.
+    entries = input_parts(mesh_obj, search=False)
     if all(role == "cut" for _, role in entries):
         raise MeshInputError(
             "every input of '%s' is also in Cuts (%s), so nothing is left to mesh: remove "

@@ -56,12 +56,14 @@ def split_solids(mesh_obj, obj):
     return solid_count(obj)
 
 
-def found_labels(obj, count):
-    """Labels of obj's solids from its links or its STEP file (None where unknown)."""
+def found_labels(obj, count, search=True):
+    """Labels of obj's solids from its links or (search) its STEP file (None where unknown)."""
     links = list(getattr(obj, "Links", []) or [])
     if obj.isDerivedFrom("Part::Compound") and len(links) == count and \
             all(len(getattr(getattr(o, "Shape", None), "Solids", [])) == 1 for o in links):
         return [o.Label for o in links]
+    if not search:
+        return [None] * count
     from .step_labels import step_solid_names
     return step_solid_names(obj, global_shape(obj).Solids)
 
@@ -71,8 +73,8 @@ def solid_labels(mesh_obj, obj, count, search=True):
     stored = dict(getattr(mesh_obj, "PartLabels", {}) or {})
     keys = [part_key(obj, k) for k in range(1, count + 1)]
     found = [None] * count
-    if search and not all(stored.get(k) for k in keys):
-        found = found_labels(obj, count)
+    if not all(stored.get(k) for k in keys):
+        found = found_labels(obj, count, search)
     return [stored.get(key) or found[i] or "%s Solid%d" % (obj.Label, i + 1)
             for i, key in enumerate(keys)]
 
@@ -91,7 +93,8 @@ def unique_labels(labels):
 
 
 def input_parts(mesh_obj, search=True):
-    """[(InputPart, role)] highest priority first (see the module docstring)."""
+    """[(InputPart, role)] highest priority first (see the module docstring). search: look
+    for the STEP file of compounds whose labels are not stored (not while recomputing)."""
     rows = []
     for obj, role in priority_entries(mesh_obj.Inputs, mesh_obj.Cuts):
         count = split_solids(mesh_obj, obj) if role == "material" else 0
