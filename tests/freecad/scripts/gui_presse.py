@@ -22,12 +22,7 @@ STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"
 
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from gui_script import main, pump  # noqa: E402
-
-
-def step(text):
-    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
-        f.write("%.1f %s\n" % (time.time(), text))
+from gui_script import main, pump, step  # noqa: E402
 
 
 def mesh_fingerprint(mesh_obj):
