@@ -52,19 +52,23 @@ def test_screenshot_shows_the_part_colours_without_highlight(presse):
     assert presse["highlight_pixels"] < 100, presse["screenshot"]
 
 
-def test_macro_makes_the_same_mesh_and_calculix_solves_it(presse):
+def test_macro_makes_the_same_mesh(presse):
     macro = presse["macro"]
-    assert "error" not in macro, macro.get("error")
-    print("macro: %s in %.0f s; max displacement %.4f mm, loaded face mean uy %.4f mm, "
-          "reaction %.1f N of %.1f N" % (macro["status"], macro["seconds"],
-                                         macro["max_displacement"], macro["loaded_face_mean_uy"],
-                                         macro["reaction"], macro["force"]))
-    assert macro["valid"], macro["status"]
+    print("macro: %s in %.0f s" % (macro.get("status"), macro["seconds"]))
+    assert macro.get("valid"), macro.get("error") or macro.get("status")
     assert macro["parts"] == PARTS
     assert macro["mesh"] == presse["mesh"]  # same nodes, same elements
     # Cast iron for the two plates, steel for every other solid: FreeCAD's CalculiX writer
     # takes one group per FEM material.
     assert len(macro["groups"]) == 2 and sum(macro["groups"].values()) == macro["mesh"]["volumes"]
+
+
+def test_calculix_solves_the_macro_analysis(presse):
+    macro = presse["macro"]
+    assert "error" not in macro, macro.get("error")
+    print("CalculiX: max displacement %.4f mm, loaded face mean uy %.4f mm, reaction %.1f N of "
+          "%.1f N" % (macro["max_displacement"], macro["loaded_face_mean_uy"], macro["reaction"],
+                      macro["force"]))
     assert macro["loaded_face_mean_uy"] < 0  # pushed down, as the macro says
     assert 0 < macro["max_displacement"] < 1.0
     assert abs(macro["reaction"] - macro["force"]) < 0.02 * macro["force"]
