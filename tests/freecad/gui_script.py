@@ -33,3 +33,9 @@ def main(check):
     with open(os.environ["OMFC_RESULT"], "w") as f:
         json.dump(result, f, indent=1, default=str)
     os._exit(0)
+
+
+def step(text):
+    """Append a line to the trail of steps ($OMFC_RESULT.steps): a GUI crash shows where."""
+    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
+        f.write("%.1f %s\n" % (time.time(), text))

@@ -10,13 +10,14 @@ def test_mesh_feature_compound_and_step_part_volumes_per_material(run_freecad):
     assert kinds[2] == "%s: B-rep compound (2 solids)" % r["imported_label"]
     # What the GUI command accepts from the selection: not the plain face.
     assert r["can_be_input"] == [True, True, True, False]
-    # The core splits each compound into one input per solid, in compound order.
+    # Each compound is split into one part per solid, in compound order: a Part::Compound's
+    # parts are named by its links, a STEP part without names by its label and solid number.
     names = [name for name, _, _ in r["core_inputs"]]
-    assert names == ["Bone", "Blocks#1", "Blocks#2",
-                     r["imported_label"] + "#1", r["imported_label"] + "#2"]
+    assert names == ["Bone", "BlockA", "BlockB",
+                     r["imported_label"] + " Solid1", r["imported_label"] + " Solid2"]
     assert [kind for _, kind, _ in r["core_inputs"]] == ["triangle surface"] + ["B-rep solid"] * 4
-    # The blocks' solids have FEM materials of their own, so material ids of their own; the
-    # plates' solids are both named by one FEM material: ids of their own, one group.
+    # Every part has a material id of its own; the plates' solids are both named by one FEM
+    # material: one group.
     assert [m for _, _, m in r["core_inputs"]] == [1, 2, 3, 4, 5]
     assert r["mesh"]["groups_cover_all_once"]
     assert len(r["volume_expected"]) == 4

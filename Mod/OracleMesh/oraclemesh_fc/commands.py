@@ -80,8 +80,9 @@ class CommandMeshSelection:
         doc.commitTransaction()
         # The inputs stay visible until there is a mesh to show instead (the task panel hides
         # them after meshing), so a failed first mesh does not leave an empty view.
+        # Nothing stays selected: FreeCAD would draw the selected mesh all in its highlight
+        # colour, over the material colours.
         FreeCADGui.Selection.clearSelection()
-        FreeCADGui.doCommandGui("FreeCADGui.Selection.addSelection(oracle_mesh)")
         # The user meshes from the panel (Mesh button) after checking priorities and sizes.
         FreeCADGui.doCommandGui("FreeCADGui.ActiveDocument.setEdit(oracle_mesh.Name, 0)")
 

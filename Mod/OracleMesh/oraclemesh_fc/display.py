@@ -1,24 +1,25 @@
-"""How a meshed OracleMesh object looks: faces coloured by material (volume group), the
-sharp and junction edges of the mesh drawn as dark lines on top (GUI only).
+"""How a meshed OracleMesh object looks: faces coloured by material (volume group), flat, one
+colour per face with no blending across a material interface, and the sharp and junction
+edges of the mesh drawn as dark lines on top (GUI only).
 
-Colours go through the FEM mesh view provider's NodeColor (a colour per node), so FreeCAD's
-own display modes, picking and highlighting keep working. (ElementColor would be the natural
-choice, but FreeCAD 0.20 scrambles it on quadratic elements, whose faces it draws as four
-triangles each; node colours are right for both orders. Nodes on a material interface take
-the colour of the input with the higher priority, listed first.) The edges are a Coin line set under the view provider's root, so
-they show in every display mode.
+FreeCAD's FEM view draws the mesh's outer faces as one Coin face set and keeps picking,
+display modes and highlighting on it. Its own colourings do not fit: NodeColor blends the
+colours of the nodes across each triangle (an interface shows a gradient), and ElementColor
+gives one colour per element face while quadratic faces are drawn as four triangles each, so
+its colours land on the wrong triangles. So the colours are written straight into that face
+set's material, one per drawn triangle: each triangle's nodes (found by their coordinates)
+belong to exactly one element, an outer face lies on one element only. The edges are a Coin
+line set under the view provider's root, so they show in every display mode.
 """
+import colorsys
 
-# Saturated colours with well separated hues, so materials stand apart under lighting and a
-# screenshot test can find each one by hue. Group i takes PALETTE[i % len(PALETTE)].
-PALETTE = (
-    (0.91, 0.39, 0.09),  # orange
-    (0.13, 0.43, 0.89),  # blue
-    (0.18, 0.70, 0.24),  # green
-    (0.80, 0.16, 0.62),  # magenta
-    (0.93, 0.80, 0.10),  # yellow
-    (0.10, 0.75, 0.80),  # cyan
-)
+# 18 hues 20 degrees apart, in an order that puts far hues next to each other (steps of 140
+# degrees), bright and darker in turn: neighbours in the priority list stand apart, and a
+# screenshot test can find each material by its hue. Group i takes PALETTE[i % len(PALETTE)].
+PALETTE_HUE_STEPS = 18
+PALETTE = tuple(colorsys.hsv_to_rgb(((7 * i) % PALETTE_HUE_STEPS) / PALETTE_HUE_STEPS, 0.85,
+                                    0.95 if i % 2 == 0 else 0.72)
+                for i in range(PALETTE_HUE_STEPS))
 EDGE_COLOUR = (0.05, 0.05, 0.05)
 
 
@@ -33,16 +34,83 @@ def material_colours(femmesh):
     return {name: PALETTE[i % len(PALETTE)] for i, (name, _) in enumerate(volume_groups(femmesh))}
 
 
-def node_colours(femmesh):
-    """{node id: (r, g, b)} for every node of an element in a volume group."""
-    colours = {}
-    groups = volume_groups(femmesh)
-    for i in reversed(range(len(groups))):  # the first group is painted last and wins
-        colour = PALETTE[i % len(PALETTE)]
-        for e in groups[i][1]:
-            for n in femmesh.getElementNodes(e):
-                colours[n] = colour
+def element_groups(femmesh):
+    """{element id: index of its volume group} (the first group wins, as in priority)."""
+    of = {}
+    for i, (_, elements) in enumerate(volume_groups(femmesh)):
+        for e in elements:
+            of.setdefault(e, i)
+    return of
+
+
+def triangle_colours(femmesh, points, coord_index):
+    """Colour of each polygon of a face set (coord_index: indices with -1 ending each
+    polygon; points: the face set's coordinates) from the element its nodes belong to."""
+    import numpy as np
+
+    nodes = femmesh.Nodes
+    ids = sorted(nodes)
+    # Coin stores float coordinates: match them as floats.
+    key_of = {np.float32(nodes[n]).tobytes(): n for n in ids} if ids else {}
+    node_at = [key_of.get(np.float32(p).tobytes()) for p in points]
+    group_of = element_groups(femmesh)
+    elements_of = {}
+    for e in group_of:
+        for n in femmesh.getElementNodes(e):
+            elements_of.setdefault(n, set()).add(e)
+    colours, polygon = [], []
+    for index in coord_index:
+        if index >= 0:
+            polygon.append(index)
+            continue
+        common = None
+        for i in polygon:
+            found = elements_of.get(node_at[i], set())
+            common = found if common is None else common & found
+        element = min(common) if common else None
+        colours.append(PALETTE[group_of[element] % len(PALETTE)] if element is not None
+                       else EDGE_COLOUR)
+        polygon = []
     return colours
+
+
+def face_set_nodes(root):
+    """(coordinates, face set, material, material binding) of the FEM view's faces."""
+    from pivy import coin
+    search = coin.SoSearchAction()
+    search.setType(coin.SoIndexedFaceSet.getClassTypeId())
+    search.setInterest(coin.SoSearchAction.FIRST)
+    search.apply(root)
+    path = search.getPath()
+    if path is None:
+        return None
+    group = path.getNodeFromTail(1)
+    found = {}
+    for i in range(group.getNumChildren()):
+        child = group.getChild(i)
+        for name, kind in (("coords", coin.SoCoordinate3), ("material", coin.SoMaterial),
+                           ("binding", coin.SoMaterialBinding)):
+            if isinstance(child, kind) and name not in found:
+                found[name] = child
+    if len(found) < 3:
+        return None
+    return found["coords"], path.getTail(), found["material"], found["binding"]
+
+
+def colour_faces(vobj, femmesh):
+    """Colour the FEM view's faces flat by material; returns the number of faces coloured."""
+    from pivy import coin
+    nodes = face_set_nodes(vobj.RootNode)
+    if nodes is None:
+        return 0
+    coords, faces, material, binding = nodes
+    points = [tuple(p.getValue()) for p in coords.point.getValues()] if coords.point.getNum() else []
+    index = list(faces.coordIndex.getValues()) if faces.coordIndex.getNum() else []
+    colours = triangle_colours(femmesh, points, index)
+    binding.value = coin.SoMaterialBinding.PER_FACE
+    material.diffuseColor.setNum(len(colours))
+    material.diffuseColor.setValues(0, len(colours), colours)
+    return len(colours)
 
 
 def feature_edge_points(obj):
@@ -108,13 +176,12 @@ class FeatureEdgeNode:
 def show(obj, edge_node=None):
     """Colour the mesh of obj by material and refresh its feature edges.
 
-    Returns (coloured nodes, feature edges drawn) (FreeCAD cannot read NodeColor back)."""
+    Returns (faces coloured, feature edges drawn) (FreeCAD cannot read the colours back)."""
     vobj = obj.ViewObject
     if vobj is None:
         return 0, 0
-    colours = node_colours(obj.FemMesh)
-    vobj.NodeColor = colours
+    coloured = colour_faces(vobj, obj.FemMesh)
     points, drawn = feature_edge_points(obj)
     if edge_node is not None:
         edge_node.update(points)
-    return len(colours), drawn
+    return coloured, drawn

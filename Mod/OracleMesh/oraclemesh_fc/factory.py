@@ -8,7 +8,9 @@ here when the GUI is up, is view_provider.py.
 import FreeCAD
 
 from .job import extra_edge_links
+from . import step_labels
 from .mesh_object import OracleMeshProxy
+from .parts import input_parts, store_labels
 
 
 # makeMesh keyword -> property. Sizes accept numbers in model units (mm).
@@ -40,11 +42,14 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
     and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
     engine ("thesis", the default, or "cgal"), optimize, seed, max_vertices, time_limit,
+    whole_inputs (compounds meshed as one input instead of one part per solid), step_file
+    (the STEP file compound inputs were imported from: their solids' names),
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
     ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
     (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
     """
-    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges"}
+    known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges", "whole_inputs",
+                                      "step_file"}
     unknown = sorted(set(job_options) - known)
     if unknown:
         raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
@@ -64,6 +69,12 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
 
     obj.Inputs = list(inputs)
     obj.Cuts = list(cuts)
+    obj.WholeInputs = list(job_options.get("whole_inputs") or ())
+    step_labels.extra_files[:] = [job_options["step_file"]] if job_options.get("step_file") else []
+    try:
+        store_labels(obj, [p for p, _ in input_parts(obj)])
+    finally:
+        step_labels.extra_files[:] = []
     for key, prop in OPTION_PROPERTIES.items():
         if key in job_options:
             value = job_options[key]

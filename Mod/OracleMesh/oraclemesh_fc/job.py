@@ -7,23 +7,23 @@ cut act only on the inputs below a given position, list the same object in `Inpu
 position as well: an object that is in both lists is a cut at its place in `Inputs`.
 
 Input kinds: Part/PartDesign features and App::Links go to the core as BREP text; a compound
-of solids (Part::Compound, an imported STEP assembly) becomes one core input per solid, in the
-compound's order, all with the object's material, unless FEM materials reference single
-solids of it ('Solid2'): then each solid gets its own material id and joins the group of the
-FEM material that references it (or the object as a whole). Mesh features (Mesh::Feature) go as
-triangle surfaces (closed, manifold, consistently oriented; their Placement applied).
+of solids (Part::Compound, an imported STEP assembly) is split into parts, one per solid
+(parts.py: labels, PartOrder), each its own core input with its own material id, unless it is
+in WholeInputs: then it is one input (the core still meshes its solids separately) with one
+material. Mesh features (Mesh::Feature) go as triangle surfaces (closed, manifold,
+consistently oriented; their Placement applied).
 
-Material ids are 1, 2, ... in priority order of the material inputs. Volume groups follow the
+Material ids are 1, 2, ... in priority order of the material parts. Volume groups follow the
 hand-off rule of src/README.md: `<FemMaterial.Name>_Volumes` when a FEM material of the analysis
-references the input object, otherwise `<Input.Label>_Volumes`.
+references the part (the object, or its solid 'SolidK'), else the name the user gave it, else
+`<part label>_Volumes`.
 """
 import math
 
 import FreeCAD
 
-
-class MeshInputError(Exception):
-    """A user error found on the FreeCAD side (before the core sees the job)."""
+from .input_objects import (  # noqa: F401 (also the names other modules import from here)
+    MeshInputError, global_mesh, global_shape, is_mesh_feature, priority_entries)
 
 
 # Property name -> (job criteria key). Zero means "not set": the core then derives the value
@@ -44,48 +44,6 @@ def _value(prop):
     return float(getattr(prop, "Value", prop))
 
 
-def global_shape(obj):
-    """The object's shape in global coordinates (placement of containers applied)."""
-    import Part
-
-    if not hasattr(obj, "Shape") and not obj.isDerivedFrom("App::Link"):
-        raise MeshInputError(
-            "input '%s' (%s) has no shape: link solids (Part/PartDesign objects) or Mesh "
-            "objects only" % (obj.Label, obj.TypeId))
-    shape = Part.getShape(obj)  # follows App::Link and applies the object's own placement
-    if shape.isNull():
-        raise MeshInputError("input '%s' has an empty shape: recompute it or remove it from "
-                             "the mesh inputs" % obj.Label)
-    # Part.getShape applies the object's own placement; add the placement of any container
-    # (App::Part, groups with placement) it lives in.
-    own = obj.Placement if hasattr(obj, "Placement") else FreeCAD.Placement()
-    parent = obj.getGlobalPlacement().multiply(own.inverse())
-    if not parent.isIdentity():
-        shape = shape.copy()
-        shape.Placement = parent.multiply(shape.Placement)
-    return shape
-
-
-def is_mesh_feature(obj):
-    """A FreeCAD Mesh object (Mesh::Feature and its Python subclasses): a triangle surface."""
-    return obj.isDerivedFrom("Mesh::Feature")
-
-
-def global_mesh(obj):
-    """(points, triangles) of a Mesh feature in global coordinates.
-
-    FreeCAD applies the feature's own Placement to the points it returns; the placement of
-    any container (App::Part, groups with placement) is added here, as for shapes."""
-    points, triangles = obj.Mesh.Topology
-    if not triangles:
-        raise MeshInputError("input '%s' is an empty mesh: recompute it or remove it from the "
-                             "mesh inputs" % obj.Label)
-    parent = obj.getGlobalPlacement().multiply(obj.Placement.inverse())
-    if not parent.isIdentity():
-        points = [parent.multVec(p) for p in points]
-    return [[p.x, p.y, p.z] for p in points], [list(t) for t in triangles]
-
-
 def input_item(obj):
     """(job input dict without role/material, kind text) for one input object.
 
@@ -97,10 +55,6 @@ def input_item(obj):
                 "triangle surface (%d triangles)" % len(triangles))
     shape = global_shape(obj)
     return {"name": obj.Label, "brep": shape.exportBrepToString()}, shape_kind(shape)
-
-
-def solid_count(obj):
-    return len(global_shape(obj).Solids)
 
 
 def shape_kind(shape):
@@ -138,20 +92,6 @@ def input_kinds(mesh_obj):
     return lines
 
 
-def priority_entries(inputs, cuts):
-    """[(obj, role)] highest priority first; see the module docstring for the cut rule."""
-    inputs, cuts = list(inputs), list(cuts)
-    names = [o.Name for o in inputs]
-    for o in inputs:
-        if names.count(o.Name) > 1:
-            raise MeshInputError("input '%s' is listed twice in Inputs: list each object once"
-                                 % o.Label)
-    cut_names = {o.Name for o in cuts}
-    entries = [(o, "cut") for o in cuts if o.Name not in names]
-    entries += [(o, "cut" if o.Name in cut_names else "material") for o in inputs]
-    return entries
-
-
 def fem_materials(mesh_obj):
     """Linear FEM material objects of the analysis holding mesh_obj (else of the document)."""
     from femtools import femutils
@@ -182,45 +122,36 @@ def references(material, obj, solid=None):
     return False
 
 
-def solid_references(materials, obj):
-    """Does any FEM material name single solids ('SolidK') of obj?"""
-    return any(sub.startswith("Solid") for m in materials for ref in m.References
-               if ref[0] == obj for sub in _subnames(ref))
-
-
 def volume_groups(material_entries, materials, names=None):
-    """[(group_name, [material ids])] for the material inputs [(obj, material_id)] or
-    [(obj, material_id, solid number)] (one entry per solid of a compound whose solids FEM
-    materials reference one by one).
+    """[(group_name, [material ids])] for the material parts [(InputPart, material id)]
+    (parts.py: an object, or one solid of a compound).
 
     FreeCAD 0.20's CalculiX writer (femmesh/meshtools.get_femelement_sets_from_group_data)
     takes, for each FEM material, the first Volume group whose name starts with
     `<material.Name>_`, and uses the groups only if their sizes add up to the volume count.
-    So each FEM material gets exactly one group, and inputs it references are merged into it.
+    So each FEM material gets exactly one group, and parts it references are merged into it.
     A material with empty References is FreeCAD's "everything else" material: it takes the
-    inputs no other material references. names ({input Name: material name}) names the
-    group of an input no FEM material references (instead of its Label).
+    parts no other material references. names ({part key: material name}, a whole object's
+    key being its Name) names the group of a part no FEM material references (instead of
+    its label).
     """
     by_name = {}
     order = []
     fallback = [m for m in materials if not m.References]
-    for entry in material_entries:
-        obj, mid = entry[0], entry[1]
-        solid = entry[2] if len(entry) > 2 else None
-        what = obj.Label if solid is None else "%s (Solid%d)" % (obj.Label, solid)
-        owners = [m for m in materials if references(m, obj, solid)]
+    for part, mid in material_entries:
+        owners = [m for m in materials if references(m, part.obj, part.solid)]
         if len(owners) > 1:
             FreeCAD.Console.PrintWarning(
                 "OracleMesh: input '%s' is referenced by several FEM materials (%s); using '%s'\n"
-                % (what, ", ".join(m.Label for m in owners), owners[0].Label))
+                % (part.label, ", ".join(m.Label for m in owners), owners[0].Label))
         if owners:
             name = owners[0].Name + "_Volumes"
-        elif (names or {}).get(obj.Name):
-            name = names[obj.Name] + "_Volumes"
+        elif (names or {}).get(part.key):
+            name = names[part.key] + "_Volumes"
         elif fallback:
             name = fallback[0].Name + "_Volumes"
         else:
-            name = obj.Label + "_Volumes"
+            name = part.label + "_Volumes"
         if name not in by_name:
             by_name[name] = []
             order.append(name)
@@ -359,39 +290,36 @@ def name_polylines(text, names):
 def build_job(mesh_obj):
     """(job dict, volume groups, [(obj, role, material id or None)], [name of each
     features.polylines entry]) for the mesh object."""
-    entries = priority_entries(mesh_obj.Inputs, mesh_obj.Cuts)
+    from .parts import input_parts
+
     if not mesh_obj.Inputs:
         raise MeshInputError(
             "'%s' has no inputs: add solids to its Inputs property, highest priority first "
             "(or select solids and run 'Mesh selection with OracleMesh')" % mesh_obj.Label)
-
+    # Labels the panel or makeMesh did not store stay '<Label> SolidK': no STEP file is read
+    # (into a scratch document) during a recompute.
+    entries = input_parts(mesh_obj, search=False)
     if all(role == "cut" for _, role in entries):
         raise MeshInputError(
             "every input of '%s' is also in Cuts (%s), so nothing is left to mesh: remove "
             "the solids to mesh from Cuts" % (mesh_obj.Label,
-                                             ", ".join(o.Label for o, _ in entries)))
+                                             ", ".join(p.label for p, _ in entries)))
 
     materials = fem_materials(mesh_obj)
     job_inputs, material_entries, described = [], [], []
-    for obj, role in entries:
-        item, _ = input_item(obj)
+    for part, role in entries:
+        if part.solid is None:
+            item, _ = input_item(part.obj)
+        else:  # one solid of a compound: an input of its own, with its own material id
+            item = {"name": part.label, "brep": part.shape().exportBrepToString()}
         if role == "cut":
             item["role"] = "cut"
-            described.append((obj, "cut", None))
-        elif "brep" in item and solid_references(materials, obj) and solid_count(obj) > 1:
-            # FEM materials name single solids of this compound (an imported assembly):
-            # each solid gets its own material id, so each can join its material's group.
-            mids = []
-            for solid in range(1, solid_count(obj) + 1):
-                mids.append(len(material_entries) + 1)
-                material_entries.append((obj, mids[-1], solid))
-                described.append((obj, "material", mids[-1]))
-            item["materials"] = mids
+            described.append((part, "cut", None))
         else:
             mid = len(material_entries) + 1
             item["material"] = mid
-            material_entries.append((obj, mid))
-            described.append((obj, "material", mid))
+            material_entries.append((part, mid))
+            described.append((part, "material", mid))
         job_inputs.append(item)
 
     default = {}
@@ -404,17 +332,17 @@ def build_job(mesh_obj):
             default[key] = value
 
     per_material = {}
-    # Name (or else Label) -> material ids of the input (one per solid when split).
-    by_name, by_label = {}, {}
-    for entry in material_entries:
-        by_name.setdefault(entry[0].Name, []).append(entry[1])
-        by_label.setdefault(entry[0].Label, []).append(entry[1])
-    by_key = dict(by_label, **by_name)
+    # Key (Name, Name.SolidK), else Label (of the object, or of the part) -> material ids.
+    by_key = {}
+    for part, mid in material_entries:
+        for key in (part.obj.Label, part.label, part.key, part.obj.Name):
+            by_key.setdefault(key, []).append(mid)
     for key, text in dict(mesh_obj.InputSizes).items():
         if key not in by_key:
             raise MeshInputError(
                 "InputSizes names '%s', which is not a material input of '%s': use the Name "
-                "or Label of an object in Inputs" % (key, mesh_obj.Label))
+                "or Label of an object in Inputs, or Name.SolidK of one of its solids"
+                % (key, mesh_obj.Label))
         sizes = parse_size_entry(text, "InputSizes['%s']" % key)
         for mid in by_key[key]:
             per_material.setdefault(str(mid), {}).update(sizes)

@@ -84,8 +84,17 @@ PROPERTIES = (
      "Keep planar faces bounded by sharp edges flat, e.g. planar contact faces of an assembly "
      "(engine thesis only; needs a sharp-edge angle above 0 and Junctions)", False),
     ("App::PropertyMap", "InputMaterialNames", "Inputs",
-     "Volume group name per input without a FEM material: key = input Name, value = a "
-     "material name (group '<name>_Volumes')", None),
+     "Volume group name per input without a FEM material: key = input Name (or Name.SolidK "
+     "for one solid of a compound), value = a material name (group '<name>_Volumes')", None),
+    ("App::PropertyLinkList", "WholeInputs", "Inputs",
+     "Compounds meshed as one input (one material, one group) instead of one part per solid",
+     None),
+    ("App::PropertyStringList", "PartOrder", "Inputs",
+     "Priority order of the parts, one by one: Name of a whole input or Name.SolidK of one "
+     "solid of a compound (parts not listed follow in the order of Inputs)", None),
+    ("App::PropertyMap", "PartLabels", "Inputs",
+     "Label of each solid of a compound: key = Name.SolidK, value = the label (from the STEP "
+     "file or the compound's links when found; names the part's volume group)", None),
     ("App::PropertyLinkSubList", "ExtraEdges", "Mesh",
      "Extra curves kept as chains of mesh edges: picked edges (EdgeN) of any shape, and whole "
      "sketches or shapes (all their edges); each must lie inside or on the meshed parts", None),
@@ -187,9 +196,9 @@ def mesh_outputs(result, groups, described, femmesh, wall_seconds):
     writes besides FemMesh, computed before anything is written."""
     report = dict(result.report)
     report["freecad"] = {
-        "inputs": [{"name": o.Name, "label": o.Label, "role": role, "material": mid,
+        "inputs": [{"name": p.key, "label": p.label, "role": role, "material": mid,
                     "group": next((g for g, ids in groups if mid in ids), None)}
-                   for o, role, mid in described],
+                   for p, role, mid in described],
         "groups": {g: ids for g, ids in groups},
         # What the user waited for: the phases in report["seconds"] nest and overlap.
         "wall_seconds": wall_seconds,

@@ -4,9 +4,10 @@ on double click, from the Edit command).
 Everything it shows lives in the mesh object's properties; the panel edits a copy and writes
 it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object as it was.
 
-- Inputs in priority order (the first wins where inputs overlap), moved with Up/Down or by
-  dragging a row onto another; per
-  input its role (material or cut) and its material: a FemMaterial of the analysis (the input
+- Inputs in priority order (the first wins where inputs overlap), one row per part: a compound
+  (an imported assembly) has a row per solid, named as the STEP file names it, unless it is
+  treated as one input (input_rows.py). Rows move with Up/Down or by dragging a row onto
+  another; per input its role (material or cut) and its material: a FemMaterial of the analysis (the input
   is then put into that material's References, which is what names the volume group and what
   FreeCAD's CalculiX writer reads) or a free name (group '<name>_Volumes').
 - Per-material criteria (cell size, facet distance, facet size, radius-edge ratio; empty =
@@ -29,7 +30,7 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from . import job as jobmod
-from . import preferences
+from . import input_rows, preferences
 from . import sizes
 from .panel_widgets import AutomaticDelegate, fit_columns, fit_text, narrow_form, show_rows
 from .input_checks import cut_warnings, input_warnings
@@ -64,18 +65,6 @@ INPUT_COLUMN_TIPS = (
 
 # The open panel, so it is not garbage-collected while FreeCAD shows it (and tests reach it).
 current = None
-
-
-def solid_refs(obj):
-    """FEM reference tuple naming every solid of obj."""
-    return (obj, tuple("Solid%d" % i for i in range(1, len(obj.Shape.Solids) + 1)) or ("Solid1",))
-
-
-class Row:
-    """One input as the panel edits it."""
-
-    def __init__(self, obj, role, material, sizes):
-        self.obj, self.role, self.material, self.sizes = obj, role, material, sizes
 
 
 class InputTable(QtGui.QTableWidget):
@@ -122,24 +111,11 @@ class TaskPanel:
 
     # ------------------------------------------------------------------ model <-> object
 
-    def material_of(self, obj):
-        for m in self.fem_materials:
-            if any(ref[0] == obj for ref in m.References):
-                return m.Label
-        return dict(self.obj.InputMaterialNames).get(obj.Name, "")
+    def material_of(self, obj, solid=None):
+        return input_rows.material_of(self.obj, self.fem_materials, obj, solid)
 
     def rows_from_object(self):
-        sizes = dict(self.obj.InputSizes)
-        rows = []
-        for obj, role in jobmod.priority_entries(self.obj.Inputs, self.obj.Cuts):
-            text = sizes.get(obj.Name, sizes.get(obj.Label, ""))
-            try:
-                parsed = jobmod.parse_size_entry(text, obj.Label) if text else {}
-            except jobmod.MeshInputError:
-                parsed = {}  # shown empty; the object keeps reporting the bad entry on recompute
-            rows.append(Row(obj, role, self.material_of(obj) if role == "material" else "",
-                            parsed))
-        return rows
+        return input_rows.rows_from_object(self.obj, self.fem_materials)
 
     def apply(self):
         """Write the panel's state into the mesh object (and the FEM materials' References).
@@ -179,32 +155,7 @@ class TaskPanel:
 
     def write_object(self):
         o = self.obj
-        o.Inputs = [r.obj for r in self.rows]
-        o.Cuts = [r.obj for r in self.rows if r.role == "cut"]
-        names = dict(o.InputMaterialNames)
-        by_label = {m.Label: m for m in self.fem_materials}
-        for r in self.rows:
-            names.pop(r.obj.Name, None)
-            chosen = by_label.get(r.material) if r.role == "material" else None
-            for m in self.fem_materials:
-                refs = [ref for ref in m.References if ref[0] != r.obj]
-                if m is chosen:
-                    refs.append(solid_refs(r.obj))
-                if refs != list(m.References):
-                    m.References = refs
-            if r.role == "material" and r.material and chosen is None:
-                names[r.obj.Name] = r.material
-        o.InputMaterialNames = names
-        sizes = {}
-        listed = {r.obj.Name for r in self.rows} | {r.obj.Label for r in self.rows}
-        for key, text in dict(o.InputSizes).items():
-            if key not in listed:
-                sizes[key] = text  # an entry the panel does not show stays (and is reported)
-        for r in self.rows:
-            if r.role == "material" and r.sizes:
-                sizes[r.obj.Name] = " ".join("%s=%r" % (k, float(v))
-                                             for k, v in sorted(r.sizes.items()))
-        o.InputSizes = sizes
+        input_rows.write_rows(o, self.rows, self.fem_materials)
         o.CellSize = self.cell_size.value()
         o.FacetDistance = self.facet_distance.value()
         o.Engine = self.engine.currentData()
@@ -264,6 +215,13 @@ class TaskPanel:
         self.down_button.clicked.connect(lambda: self.move_selected(+1))
         self.add_button.clicked.connect(self.add_selected)
         self.remove_button.clicked.connect(self.remove_selected)
+        self.whole_check = QtGui.QCheckBox("Treat as one input")
+        self.whole_check.setToolTip("One row, one material and one volume group for all solids "
+                                    "of the selected compound, instead of one row per solid")
+        self.whole_check.setEnabled(False)
+        self.whole_check.toggled.connect(self.set_whole)
+        v.addWidget(self.whole_check)
+        self.inputs.itemSelectionChanged.connect(self.sync_whole_check)
         layout.addWidget(box)
 
         box = QtGui.QGroupBox("Sizes (model units)")
@@ -455,9 +413,9 @@ class TaskPanel:
         """Rebuild both tables from self.rows (after a move, add or remove)."""
         self.inputs.setRowCount(len(self.rows))
         for i, r in enumerate(self.rows):
-            item = QtGui.QTableWidgetItem(r.obj.Label)
+            item = QtGui.QTableWidgetItem(r.label)
             item.setFlags(QtCore.Qt.ItemIsSelectable | QtCore.Qt.ItemIsEnabled)
-            item.setToolTip("%s (%s), priority %d" % (r.obj.Label, r.obj.Name, i + 1))
+            item.setToolTip("%s (%s of '%s'), priority %d" % (r.label, r.key, r.obj.Label, i + 1))
             self.inputs.setItem(i, 0, item)
             role = QtGui.QComboBox()
             role.addItems(ROLES)
@@ -473,7 +431,7 @@ class TaskPanel:
             self.inputs.setCellWidget(i, 2, material)
         materials = [r for r in self.rows if r.role == "material"]
         self.criteria.setRowCount(len(materials))
-        self.criteria.setVerticalHeaderLabels([r.obj.Label for r in materials])
+        self.criteria.setVerticalHeaderLabels([r.label for r in materials])
         for i, r in enumerate(materials):
             for j, (key, _) in enumerate(CRITERIA_COLUMNS):
                 value = r.sizes.get(key)
@@ -517,13 +475,40 @@ class TaskPanel:
                 if not value > 0:
                     raise jobmod.MeshInputError(
                         "%s of '%s' is '%s': give a positive number, or leave the cell empty"
-                        % (header, r.obj.Label, text))
+                        % (header, r.label, text))
                 r.sizes[key] = value
 
     def set_role(self, row, role):
         self.read_tables()
         row.role = role
+        if role == "cut" and row.solid is not None:  # a cut removes its whole shape
+            self.rows = input_rows.join_rows(self.rows, row.obj)
+            self.rows[[r.obj for r in self.rows].index(row.obj)].role = "cut"
         self.refresh_inputs()
+
+    def sync_whole_check(self):
+        """The checkbox shows whether the selected row's compound is one input."""
+        i = self.selected_row()
+        row = self.rows[i] if 0 <= i < len(self.rows) else None
+        solids = len(getattr(getattr(row.obj, "Shape", None), "Solids", [])) if row else 0
+        self.whole_check.blockSignals(True)
+        self.whole_check.setEnabled(row is not None and row.role == "material" and solids > 1)
+        self.whole_check.setChecked(row is not None and solids > 1 and row.solid is None)
+        self.whole_check.blockSignals(False)
+
+    def set_whole(self, whole):
+        """Join the selected compound's solid rows into one row, or split it again."""
+        i = self.selected_row()
+        if not 0 <= i < len(self.rows):
+            return
+        self.read_tables()
+        obj = self.rows[i].obj
+        if whole:
+            self.rows = input_rows.join_rows(self.rows, obj)
+        else:
+            self.rows = input_rows.split_rows(self.obj, self.fem_materials, self.rows, obj)
+        self.refresh_inputs()
+        self.select_row([r.obj for r in self.rows].index(obj))
 
     def set_material(self, row, text):
         row.material = "" if text.strip() in ("", AUTO_MATERIAL) else text.strip()
@@ -556,7 +541,9 @@ class TaskPanel:
         accepted = selected_solids()
         for obj in accepted:
             if obj.Name not in present and obj != self.obj:
-                self.rows.append(Row(obj, "material", self.material_of(obj), {}))
+                self.rows += input_rows.rows_for_object(
+                    self.obj, self.fem_materials, obj, obj in self.obj.WholeInputs,
+                    [r.label for r in self.rows])
         self.refresh_inputs()
         refused = [refusal(o) for o in FreeCADGui.Selection.getSelection() if o not in accepted]
         if any(refused):
@@ -568,7 +555,8 @@ class TaskPanel:
         if i < 0:
             return
         self.read_tables()
-        del self.rows[i]
+        obj = self.rows[i].obj  # a compound goes with all its solids
+        self.rows = [r for r in self.rows if r.obj != obj]
         self.refresh_inputs()
 
     def refresh_extra_edges(self):
@@ -642,6 +630,8 @@ class TaskPanel:
         finally:
             self.doc.commitTransaction()
         ok = bool(self.obj.isValid()) and self.obj.FemMesh.VolumeCount > 0
+        # A selected mesh is drawn all in FreeCAD's highlight colour, over the material colours.
+        FreeCADGui.Selection.removeSelection(self.obj)
         self.show_inputs(not ok and self.obj.FemMesh.VolumeCount == 0)
         self.show_report()
         return ok

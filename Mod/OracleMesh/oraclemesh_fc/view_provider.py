@@ -30,6 +30,12 @@ class ViewProviderOracleMesh(StatelessProxy):
             from PySide import QtCore
             QtCore.QTimer.singleShot(0, lambda: self.show(obj))
 
+    def onChanged(self, vobj, prop):
+        # ShowInner makes FreeCAD's view draw another set of faces: colour them again.
+        if prop == "ShowInner" and hasattr(self, "edge_node"):
+            from PySide import QtCore
+            QtCore.QTimer.singleShot(0, lambda: self.show(vobj.Object))
+
     def show(self, obj):
         try:
             self.shown = display.show(obj, self.edge_node)

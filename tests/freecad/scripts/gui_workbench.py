@@ -21,12 +21,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from gui_script import main, pump  # noqa: E402
-
-
-def step(text):
-    with open(os.environ["OMFC_RESULT"] + ".steps", "a") as f:
-        f.write("%.1f %s\n" % (time.time(), text))
+from gui_script import main, pump, step  # noqa: E402
 
 
 
@@ -249,6 +244,8 @@ def check(out):
     out["colours"] = colours
     out["colour_pixels"] = colour_pixels(shot, colours)
     out["element_colours"], out["edges_drawn"] = mesh.ViewObject.Proxy.shown
+    faces = display.face_set_nodes(mesh.ViewObject.RootNode)[1]
+    out["face_polygons"] = list(faces.coordIndex.getValues()).count(-1)
     # The same view without the edge lines: what the lines add is what the user sees of them.
     mesh.ViewObject.Proxy.edge_node.update([])
     pump(0.3)

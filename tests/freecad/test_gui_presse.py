@@ -1,0 +1,99 @@
+"""The FEM user's assembly path in the real FreeCAD GUI (under Xvfb), on presse_asm.step
+(scripts/gui_presse.py drives it; one FreeCAD session, judged here by several tests):
+
+- FreeCAD's own STEP import gives one compound of 16 solids; the mesh command at the
+  defaults lists one row per solid, named as the STEP file names the parts, and meshes it
+  into one volume group per solid;
+- the screenshot shows at least 10 part colours and no selection highlight;
+- examples/OracleMesh_Presse.FCMacro makes the same mesh, and CalculiX solves it: the ram is
+  pushed down and the base's reaction balances the force;
+- the panel's rows per solid: a FEM material referencing one solid, a name for another, one
+  solid moved to the top, the compound treated as one input and split again.
+"""
+import os
+
+import pytest
+
+from gui_session import run_gui_script
+
+PARTS = ["PLATEAU_BAS", "COLONNE", "COLONNE001", "COLONNE002", "COLONNE003", "PLATEAU_HAUT",
+         "SUP-VERIN", "VERIN", "CAPTEUR_FORCE", "SUPPORT", "MATRICE", "SERRE_FLAN",
+         "CORPS_AMMOVIBLE", "CORPS_FIXE", "PRT0001", "SPHERE_CN"]
+
+
+@pytest.fixture(scope="module")
+def presse(tmp_path_factory):
+    return run_gui_script(tmp_path_factory, "gui_presse.py", "gui_presse", timeout=900)
+
+
+def test_imported_assembly_meshes_at_defaults_one_group_per_solid(presse):
+    assert presse["imported"] == ["Part::Feature", "presse_asm", 16]
+    name = presse["rows"][0][0].split(".")[0]
+    assert presse["rows"] == [["%s.Solid%d" % (name, k), label]
+                              for k, label in enumerate(PARTS, start=1)]
+    assert presse["table_labels"] == PARTS
+    assert presse["mesh_ok"], presse["status"]
+    assert presse["messages"] == []
+    print("GUI mesh: %s in %.0f s" % (presse["status"], presse["mesh_seconds"]))
+    assert sorted(presse["groups"]) == sorted(p + "_Volumes" for p in PARTS)
+    assert all(n > 0 for n in presse["groups"].values())
+    assert sum(presse["groups"].values()) == presse["mesh"]["volumes"]
+    assert presse["groups_cover_all_once"]
+
+
+def test_screenshot_shows_the_part_colours_without_highlight(presse):
+    assert os.path.getsize(presse["screenshot"]) > 10000
+    assert presse["palette_size"] >= 16
+    assert presse["selection"] == []
+    assert presse["faces_coloured"] > 1000
+    pixels = presse["palette_pixels"]
+    print("pixels per palette colour:", pixels, "highlight:", presse["highlight_pixels"])
+    assert sum(count > 50 for count in pixels) >= 10, presse["screenshot"]
+    assert presse["highlight_pixels"] < 100, presse["screenshot"]
+
+
+def test_macro_makes_the_same_mesh(presse):
+    macro = presse["macro"]
+    print("macro: %s in %.0f s" % (macro.get("status"), macro["seconds"]))
+    assert macro.get("valid"), macro.get("error") or macro.get("status")
+    assert macro["parts"] == PARTS
+    assert macro["mesh"] == presse["mesh"]  # same nodes, same elements
+    # Cast iron for the two plates, steel for every other solid: FreeCAD's CalculiX writer
+    # takes one group per FEM material.
+    assert len(macro["groups"]) == 2 and sum(macro["groups"].values()) == macro["mesh"]["volumes"]
+
+
+def test_calculix_solves_the_macro_analysis(presse):
+    macro = presse["macro"]
+    assert "error" not in macro, macro.get("error")
+    print("CalculiX: max displacement %.4f mm, loaded face mean uy %.4f mm, reaction %.1f N of "
+          "%.1f N" % (macro["max_displacement"], macro["loaded_face_mean_uy"], macro["reaction"],
+                      macro["force"]))
+    assert macro["loaded_face_mean_uy"] < 0  # pushed down, as the macro says
+    assert 0 < macro["max_displacement"] < 1.0
+    assert abs(macro["reaction"] - macro["force"]) < 0.02 * macro["force"]
+
+
+def test_rows_per_solid_materials_names_priorities(presse):
+    name = presse["rows"][0][0].split(".")[0]
+    written = presse["rows_written"]
+    assert written["bronze_references"] == [[name, ["Solid3", "Solid16"]]]
+    assert written["names"] == {"%s.Solid5" % name: "Rubber"}
+    assert written["order"] == ["%s.Solid8" % name, "%s.Solid1" % name, "%s.Solid2" % name]
+    assert written["job_inputs"] == ["VERIN", "PLATEAU_BAS", "COLONNE"]
+    assert written["labels_kept"] == "COLONNE001"
+    groups = dict((g, ids) for g, ids in written["groups"])
+    bronze = [g for g in groups if g.startswith("Bronze")]
+    assert len(bronze) == 1 and len(groups[bronze[0]]) == 2  # COLONNE001 and SPHERE_CN
+    assert len(groups["Rubber_Volumes"]) == 1 and "COLONNE003_Volumes" not in groups
+    assert len(groups) == 15
+
+
+def test_compound_as_one_input_and_split_again(presse):
+    name = presse["rows"][0][0].split(".")[0]
+    assert presse["whole_rows"] == [[name, "presse_asm"]]
+    whole = presse["whole"]
+    assert whole["whole_inputs"] == [name]
+    assert whole["job_inputs"] == [["presse_asm", 1]]
+    assert len(whole["groups"]) == 1 and whole["groups"][0][1] == [1]
+    assert sorted(presse["split_again"]) == sorted(PARTS)
