@@ -123,6 +123,23 @@ json conformityJson(const ConformityReport& conformity) {
           {"ok", conformity.ok()}};
 }
 
+json selfCheckJson(const MeshSelfCheck& check, MeshCheckMode mode) {
+  json materials = json::object();
+  for (const auto& [m, c] : check.materials)
+    materials[std::to_string(m)] = {{"parts", c.parts},
+                                    {"input_volume", c.input_volume},
+                                    {"input_volume_error_bar", c.error_bar},
+                                    {"mesh_volume", c.mesh_volume},
+                                    {"deviation", c.deviation},
+                                    {"components", c.components},
+                                    {"max_components", c.max_components}};
+  return {{"mode", mode == MeshCheckMode::Error ? "error" : "warn"},
+          {"volume_tolerance", check.volume_tolerance},
+          {"materials", materials},
+          {"problems", check.problems},
+          {"ok", check.problems.empty()}};
+}
+
 json featuresJson(const FeatureReport& f, int64_t protectingBalls) {
   return {{"enabled", f.enabled},
           {"sharp_edge_polylines", f.sharp_edge_polylines},
@@ -198,6 +215,7 @@ json reportJson(const JobReport& r) {
   report["volume_per_material"] = volumes;
   report["quality"] = qualityJson(r.quality);
   report["conformity"] = conformityJson(r.conformity);
+  report["self_check"] = selfCheckJson(r.self_check, r.checks);
   if (r.engine_run.thesis) {
     report["thesis"] = thesisJson(*r.engine_run.thesis, r.inputs);
     report["material_assignment"] = materialAssignmentName(r.material_assignment);

@@ -16,6 +16,7 @@
 #include "features/FeatureSeparation.h"
 #include "features/InputAngles.h"
 #include "job/JobSpec.h"
+#include "job/MeshSelfCheck.h"
 #include "mesh/BoundarySnap.h"
 #include "mesh/Quality.h"
 #include "mesh/Topology.h"
@@ -93,6 +94,8 @@ struct JobReport {
   MeshCounts counts;
   QualityReport quality;
   ConformityReport conformity;
+  MeshCheckMode checks = MeshCheckMode::Warn;
+  MeshSelfCheck self_check;
   std::vector<std::string> warnings;  // in the order the phases found them
   std::map<std::string, double> seconds;
 };

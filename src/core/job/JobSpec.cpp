@@ -286,7 +286,7 @@ const char* materialAssignmentName(MaterialAssignment assignment) {
 JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
-                          "element_order", "limits", "seed", "output"},
+                          "element_order", "limits", "seed", "checks", "output"},
                     "the job");
   JobSpec spec;
   if (!job.contains("inputs") || !job["inputs"].is_array() || job["inputs"].empty())
@@ -413,6 +413,13 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     if (!job["seed"].is_number_integer() || job["seed"].get<int64_t>() < 0)
       throw InputError("seed must be a non-negative integer");
     spec.seed = static_cast<unsigned>(job["seed"].get<int64_t>());
+  }
+  if (job.contains("checks")) {
+    const json& c = job["checks"];
+    if (!c.is_string() || (c != "warn" && c != "error"))
+      throw InputError("'checks' must be \"warn\" (a mesh that fails its volume or connectivity check is "
+                       "written with warnings) or \"error\" (it is refused)");
+    spec.checks = c == "error" ? MeshCheckMode::Error : MeshCheckMode::Warn;
   }
   if (job.contains("output")) {
     const json& o = job["output"];

@@ -19,6 +19,10 @@ namespace oraclemesh {
 // The refinement engine: Rule Set T (refine/ThesisEngine) or CGAL Mesh_3 (cgal/Mesh3Engine).
 enum class Engine { Thesis, Cgal };
 
+// What runJob does when the finished mesh fails its self-check (job/MeshSelfCheck.h): a part
+// missing volume or split into pieces. Job key "checks".
+enum class MeshCheckMode { Warn, Error };
+
 // The job's names for them ("thesis", "cgal"; "circumcenter", "barycenter"), as parsed and as
 // printed back in the report.
 const char* engineName(Engine engine);
@@ -89,6 +93,9 @@ struct JobSpec {
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;
+  // Warn until sizes follow the geometry: at the default sizes small parts of an assembly
+  // still come out short of volume, and an error would refuse those meshes outright.
+  MeshCheckMode checks = MeshCheckMode::Warn;
   std::vector<std::string> output_files;  // resolved against the base directory
   std::string report_file;
 

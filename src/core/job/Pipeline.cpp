@@ -8,6 +8,7 @@
 #include "job/FeatureAssembly.h"
 #include "job/InputLoading.h"
 #include "job/JobReport.h"
+#include "job/MeshSelfCheck.h"
 #include "job/PhaseClock.h"
 #include "job/ResolvedCriteria.h"
 #include "mesh/BoundarySnap.h"
@@ -81,6 +82,19 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.conformity = checkConformity(mesh);
   report.counts = {mesh.points.size(), mesh.tets.size(), mesh.boundary.size(), mesh.feature_edges.size()};
   addMeshWarnings(report);
+
+  control.report("check", 0);
+  report.checks = job.checks;
+  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material);
+  clock.finish("check");
+  if (!report.self_check.problems.empty()) {
+    if (job.checks == MeshCheckMode::Error) {
+      std::string message = "the mesh does not represent the model";
+      for (const std::string& problem : report.self_check.problems) message += "; " + problem;
+      throw MeshCheckError(message + " (to keep such a mesh anyway, set \"checks\": \"warn\")");
+    }
+    for (const std::string& problem : report.self_check.problems) report.warnings.push_back(problem);
+  }
 
   control.report("write", 0);
   for (const std::string& path : job.output_files) writeMeshFile(path, mesh);

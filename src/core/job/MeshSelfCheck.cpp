@@ -1,0 +1,249 @@
+#include "job/MeshSelfCheck.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+#include "domain/BrepTopology.h"
+
+namespace oraclemesh {
+
+namespace {
+
+// Rays per side of the grid across an overlap box (two jittered rays per cell).
+constexpr int kRays = 32;
+
+Bbox intersection(const Bbox& a, const Bbox& b) {
+  Bbox r;
+  if (a.empty() || b.empty()) return r;
+  for (int i = 0; i < 3; ++i) {
+    r.min[i] = std::max(a.min[i], b.min[i]);
+    r.max[i] = std::min(a.max[i], b.max[i]);
+    if (r.min[i] > r.max[i]) return Bbox{};
+  }
+  return r;
+}
+
+double boxVolume(const Bbox& b) {
+  return b.empty() ? 0.0 : (b.max[0] - b.min[0]) * (b.max[1] - b.min[1]) * (b.max[2] - b.min[2]);
+}
+
+// Parameter intervals [t0, t1] of the segment a->b inside a source, from its exact crossings.
+using Intervals = std::vector<std::array<double, 2>>;
+
+Intervals insideIntervals(const Source& source, const Point3& a, const Point3& b) {
+  const std::vector<BoundaryCrossing> crossings = source.crossings(a, b);
+  Intervals inside;
+  if (crossings.empty()) {
+    const Point3 middle{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+    if (source.inside(middle)) inside.push_back({0.0, 1.0});
+    return inside;
+  }
+  double start = crossings.front().entering ? -1.0 : 0.0;  // -1: outside where the segment starts
+  for (const BoundaryCrossing& c : crossings) {
+    if (c.entering) {
+      start = c.t;
+    } else if (start >= 0.0) {
+      inside.push_back({start, c.t});
+      start = -1.0;
+    }
+  }
+  if (start >= 0.0) inside.push_back({start, 1.0});
+  return inside;
+}
+
+// Length (in t) of the part of `inside` that `cover` covers; `cover` may overlap itself.
+double lengthOfIntersection(const Intervals& inside, Intervals cover) {
+  std::sort(cover.begin(), cover.end());
+  Intervals merged;
+  for (const auto& c : cover) {
+    if (!merged.empty() && c[0] <= merged.back()[1]) merged.back()[1] = std::max(merged.back()[1], c[1]);
+    else merged.push_back(c);
+  }
+  double length = 0;
+  for (const auto& i : inside)
+    for (const auto& c : merged) length += std::max(0.0, std::min(i[1], c[1]) - std::max(i[0], c[0]));
+  return length;
+}
+
+// The part of entry `e` that a higher-priority entry (material or cut) takes from it.
+struct Overlap {
+  double volume = 0;
+  double error_bar = 0;
+  bool possible = false;  // some higher entry's box meets e's box
+  bool found = false;     // some ray ran inside e and inside a higher entry
+};
+
+Overlap overlapWithHigherEntries(const HierarchicalOracle& oracle, size_t e) {
+  const auto& entries = oracle.entries();
+  const Source& source = *entries[e].source;
+  const Bbox own = source.bbox();
+  // Parts that touch along a plane share a box of no thickness (up to the CAD's rounding):
+  // no overlap to look for there.
+  const double flat = 1e-6 * oracle.diagonal();
+  Bbox region;
+  std::vector<size_t> higher;
+  for (size_t h = 0; h < e; ++h) {
+    const Bbox common = intersection(own, entries[h].source->bbox());
+    if (common.empty() || std::min({common.max[0] - common.min[0], common.max[1] - common.min[1],
+                                    common.max[2] - common.min[2]}) <= flat)
+      continue;
+    region.add(common);
+    higher.push_back(h);
+  }
+  Overlap overlap;
+  if (higher.empty()) return overlap;
+  overlap.possible = true;
+
+  // Rays along z through the region, two jittered ones per cell of a kRays x kRays grid, each
+  // cut exactly by the sources' own crossings: the error is only in the grid, and the pair's
+  // difference estimates each cell's variance, so the error bar reflects the cells the
+  // overlap's outline passes through. Seeded by the entry: the same job gives the same report.
+  std::mt19937_64 random(0x5e1fc4ecULL + e);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double dx = (region.max[0] - region.min[0]) / kRays, dy = (region.max[1] - region.min[1]) / kRays;
+  auto overlapLength = [&](int i, int j) {
+    const double x = region.min[0] + (i + unit(random)) * dx, y = region.min[1] + (j + unit(random)) * dy;
+    const Point3 from{x, y, region.min[2]}, to{x, y, region.max[2]};
+    const Intervals inside = insideIntervals(source, from, to);
+    if (inside.empty()) return 0.0;
+    Intervals above;
+    for (size_t h : higher) {
+      const Bbox& box = entries[h].source->bbox();
+      if (x < box.min[0] || x > box.max[0] || y < box.min[1] || y > box.max[1]) continue;
+      const Intervals more = insideIntervals(*entries[h].source, from, to);
+      above.insert(above.end(), more.begin(), more.end());
+    }
+    return (region.max[2] - region.min[2]) * lengthOfIntersection(inside, above);
+  };
+  double sum = 0, variance = 0;
+  for (int i = 0; i < kRays; ++i)
+    for (int j = 0; j < kRays; ++j) {
+      const double a = overlapLength(i, j), b = overlapLength(i, j);
+      sum += a + b;
+      variance += (a - b) * (a - b) / 4.0;  // of the pair's mean: s^2 / 2 with s^2 = (a - b)^2 / 2
+    }
+  const double cellArea = dx * dy;
+  overlap.volume = cellArea * sum / 2.0;
+  // Pairs that agree contribute nothing, so the bar keeps half a cell's column of the region
+  // for an overlap thin enough to pass between all rays.
+  overlap.error_bar = std::max(3.0 * cellArea * std::sqrt(variance), boxVolume(region) / (2.0 * kRays * kRays));
+  overlap.found = overlap.volume > 1e-6 * source.volume();  // more than rounding where faces touch
+  return overlap;
+}
+
+// Face-connected pieces of each material's tetrahedra.
+std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
+  const size_t n = mesh.tets.size();
+  std::vector<size_t> parent(n);
+  std::iota(parent.begin(), parent.end(), size_t{0});
+  auto find = [&](size_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  struct Face {
+    std::array<int64_t, 3> v;
+    size_t tet;
+  };
+  std::vector<Face> faces;
+  faces.reserve(4 * n);
+  for (size_t t = 0; t < n; ++t)
+    for (int skip = 0; skip < 4; ++skip) {
+      Face f{{}, t};
+      for (int k = 0, m = 0; k < 4; ++k)
+        if (k != skip) f.v[m++] = mesh.tets[t][k];
+      std::sort(f.v.begin(), f.v.end());
+      faces.push_back(f);
+    }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.v < b.v; });
+  for (size_t i = 0; i + 1 < faces.size(); ++i) {
+    if (faces[i].v != faces[i + 1].v) continue;
+    const size_t a = faces[i].tet, b = faces[i + 1].tet;
+    if (mesh.tet_materials[a] == mesh.tet_materials[b]) parent[find(a)] = find(b);
+  }
+  std::map<int, int64_t> components;
+  for (size_t t = 0; t < n; ++t)
+    if (find(t) == t) ++components[mesh.tet_materials[t]];
+  return components;
+}
+
+std::string partNames(const std::vector<std::string>& names) {
+  std::ostringstream out;
+  const size_t shown = names.size() <= 3 ? names.size() : 2;
+  for (size_t i = 0; i < shown; ++i) out << (i ? ", " : "") << "'" << names[i] << "'";
+  if (shown < names.size()) out << " and " << names.size() - shown << " more";
+  return out.str();
+}
+
+std::string percent(double fraction) {
+  std::ostringstream out;
+  out.precision(fraction < 0.1 ? 2 : 3);
+  out << 100.0 * fraction << " %";
+  return out.str();
+}
+
+}  // namespace
+
+MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
+                                     const std::map<int, double>& volume_per_material) {
+  MeshSelfCheck check;
+  std::map<int, std::vector<std::string>> names;
+  std::map<int, bool> piecesKnown;
+  std::map<int, int64_t> solids;
+  const auto& entries = oracle.entries();
+  for (size_t e = 0; e < entries.size(); ++e) {
+    if (entries[e].role != Role::Material) continue;
+    const int m = entries[e].material;
+    MaterialVolumeCheck& c = check.materials[m];
+    const Overlap overlap = overlapWithHigherEntries(oracle, e);
+    c.input_volume += entries[e].source->volume() - overlap.volume;
+    c.error_bar += overlap.error_bar;
+    names[m].push_back(entries[e].source->name());
+    // A B-rep entry is one connected solid; a cut or a higher entry through it may split it.
+    const bool known = entries[e].source->brepTopology() != nullptr && !overlap.found;
+    piecesKnown.emplace(m, true);
+    piecesKnown[m] = piecesKnown[m] && known;
+    ++solids[m];
+  }
+  const std::map<int, int64_t> components = componentsPerMaterial(mesh);
+  for (auto& [m, c] : check.materials) {
+    c.parts = partNames(names[m]);
+    const auto v = volume_per_material.find(m);
+    c.mesh_volume = v == volume_per_material.end() ? 0.0 : v->second;
+    const auto k = components.find(m);
+    c.components = k == components.end() ? 0 : k->second;
+    c.max_components = piecesKnown[m] ? solids[m] : -1;
+    const std::string who = "material " + std::to_string(m) + " (" + c.parts + ")";
+    if (c.input_volume <= c.error_bar) continue;  // all of it taken by higher entries or cuts
+    c.deviation = (c.mesh_volume - c.input_volume) / c.input_volume;
+    const double allowed = std::max(check.volume_tolerance, c.error_bar / c.input_volume);
+    std::ostringstream figures;
+    figures << "(mesh " << c.mesh_volume << ", input " << c.input_volume;
+    if (c.error_bar > 0) figures << " +- " << c.error_bar;
+    figures << " model units^3)";
+    if (c.mesh_volume == 0) {
+      check.problems.push_back(who + " is missing from the mesh " + figures.str() +
+                               ": it is smaller than its elements; give it a smaller cell_size and facet_size "
+                               "(criteria.materials.\"" + std::to_string(m) + "\")");
+    } else if (c.deviation < -allowed) {
+      check.problems.push_back(who + " has " + percent(-c.deviation) + " less volume in the mesh than in the input " +
+                               figures.str() + ": its elements are too large for it; give it a smaller cell_size and " +
+                               "facet_size (criteria.materials.\"" + std::to_string(m) + "\")");
+    } else if (c.deviation > allowed) {
+      check.problems.push_back(who + " has " + percent(c.deviation) + " more volume in the mesh than in the input " +
+                               figures.str() + ": the mesh fills gaps or hollows of it; give it a smaller " +
+                               "facet_distance and facet_size (criteria.materials.\"" + std::to_string(m) + "\")");
+    }
+    if (c.max_components >= 0 && c.components > c.max_components)
+      check.problems.push_back(who + " is meshed as " + std::to_string(c.components) + " separate pieces but is " +
+                               std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
+                               "than its elements; give it a smaller cell_size and facet_size (criteria.materials.\"" +
+                               std::to_string(m) + "\")");
+  }
+  return check;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,135 @@
+// The self-check of a finished mesh (job/MeshSelfCheck.h): each material's volume against a
+// figure that does not come from the mesh, and each part against falling apart into pieces.
+// The reference figures here are independent of the oracle: OpenCASCADE's GProp volume of the
+// STEP file, the closed-form volume of two overlapping spheres.
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "Error.h"
+#include "domain/BrepSolid.h"
+#include "domain/HierarchicalOracle.h"
+#include "job/MeshSelfCheck.h"
+#include "job/Pipeline.h"
+#include "mesh/Quality.h"
+#include "mesh_fixtures.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+
+json coarsePartJob() {
+  return {{"inputs", {{{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}}}},
+          {"criteria", {{"default", {{"cell_size", 1000}, {"facet_size", 1000}, {"facet_distance", 1000}}}}},
+          {"element_order", 1}};
+}
+
+// part.step at cell size 1000 loses most of its volume while every element is fine.
+TEST(SelfCheck, PartStepAtCellSize1000IsAWarningByDefault) {
+  const double cadVolume = test::volumeOf(BrepSolid::fromFile(test::cadDir() + "/part.step", "part")->shape());
+  const JobResult result = runJob(JobSpec::fromJson(coarsePartJob(), "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_EQ(check.at("mode"), "warn");
+  EXPECT_FALSE(check.at("ok").get<bool>());
+  const json& part = check.at("materials").at("1");
+  // Nothing overlaps the part: its figure is the exact CAD volume, without an error bar.
+  EXPECT_NEAR(part.at("input_volume").get<double>(), cadVolume, 1e-9 * cadVolume);
+  EXPECT_EQ(part.at("input_volume_error_bar").get<double>(), 0.0);
+  const double meshVolume = measureQuality(result.mesh).volume_per_material.at(1);
+  EXPECT_NEAR(part.at("mesh_volume").get<double>(), meshVolume, 1e-9 * cadVolume);
+  EXPECT_LT(meshVolume, 0.9 * cadVolume) << "the coarse mesh was expected to miss volume";
+  EXPECT_NEAR(part.at("deviation").get<double>(), meshVolume / cadVolume - 1.0, 1e-9);
+  bool warned = false;
+  for (const json& w : result.report.at("warnings")) {
+    const std::string text = w.get<std::string>();
+    warned = warned || (text.find("'part'") != std::string::npos && text.find("less volume") != std::string::npos &&
+                        text.find("smaller cell_size") != std::string::npos);
+  }
+  EXPECT_TRUE(warned) << result.report.at("warnings").dump(1);
+}
+
+TEST(SelfCheck, PartStepAtCellSize1000IsRefusedWithChecksError) {
+  json job = coarsePartJob();
+  job["checks"] = "error";
+  try {
+    runJob(JobSpec::fromJson(job, "."), RunControl());
+    FAIL() << "a mesh missing most of the part's volume was accepted";
+  } catch (const MeshCheckError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("material 1 ('part')"), std::string::npos) << message;
+    EXPECT_NE(message.find("less volume"), std::string::npos) << message;
+    EXPECT_NE(message.find("criteria.materials.\"1\""), std::string::npos) << message;
+  }
+}
+
+TEST(SelfCheck, ChecksKeyIsValidated) {
+  json job = coarsePartJob();
+  job["checks"] = "sometimes";
+  EXPECT_THROW(JobSpec::fromJson(job, "."), InputError);
+}
+
+// Two unit spheres 1 apart: the higher one takes a lens of pi (4r + d)(2r - d)^2 / 12 from the
+// lower one. The lower one's figure is its volume less the sampled lens.
+TEST(SelfCheck, OverlapWithAHigherInputIsSubtracted) {
+  const json job = {{"inputs",
+                     {{{"name", "upper"}, {"sphere", {{"center", {0, 0, 0}}, {"radius", 1}}}, {"material", 1}},
+                      {{"name", "lower"}, {"sphere", {{"center", {1, 0, 0}}, {"radius", 1}}}, {"material", 2}}}},
+                    {"criteria", {{"default", {{"cell_size", 0.25}, {"facet_size", 0.15}, {"facet_distance", 0.004}}}}},
+                    {"features", false},
+                    {"element_order", 2}};
+  const JobResult result = runJob(JobSpec::fromJson(job, "."), RunControl());
+  const json& materials = result.report.at("self_check").at("materials");
+  const double ball = 4.0 * M_PI / 3.0;
+  const double lens = M_PI * (4.0 + 1.0) * 1.0 / 12.0;
+  const json& upper = materials.at("1");
+  const json& lower = materials.at("2");
+  EXPECT_NEAR(upper.at("input_volume").get<double>(), ball, 1e-12);
+  EXPECT_EQ(upper.at("input_volume_error_bar").get<double>(), 0.0);
+  const double bar = lower.at("input_volume_error_bar").get<double>();
+  EXPECT_GT(bar, 0.0);
+  EXPECT_LT(bar, 0.01 * (ball - lens)) << "the sampling is too coarse to check a part to 1 %";
+  EXPECT_NEAR(lower.at("input_volume").get<double>(), ball - lens, bar);
+  EXPECT_TRUE(result.report.at("self_check").at("ok").get<bool>()) << result.report.at("self_check").dump(1);
+  EXPECT_LT(std::abs(lower.at("deviation").get<double>()), 0.01);
+}
+
+// A box meshed as two separate cubes: the part fell apart (and has the wrong volume).
+TEST(SelfCheck, PartInTwoPiecesIsReported) {
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(3, 1, 1)).Shape();
+  const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(box, "bar"), Role::Material, 1}});
+  TetMesh mesh = test::kuhnCube();
+  const TetMesh far = test::kuhnCube();
+  for (const Point3& p : far.points) mesh.points.push_back({p[0] + 2, p[1], p[2]});
+  for (const auto& t : far.tets) mesh.tets.push_back({t[0] + 8, t[1] + 8, t[2] + 8, t[3] + 8});
+  mesh.tet_materials.insert(mesh.tet_materials.end(), far.tet_materials.begin(), far.tet_materials.end());
+  mesh.vertex_dimension.assign(mesh.points.size(), 2);
+  mesh.vertex_curve.assign(mesh.points.size(), -1);
+  const MeshSelfCheck check = checkMeshAgainstInputs(mesh, oracle, measureQuality(mesh).volume_per_material);
+  const MaterialVolumeCheck& bar = check.materials.at(1);
+  EXPECT_EQ(bar.components, 2);
+  EXPECT_EQ(bar.max_components, 1);
+  EXPECT_NEAR(bar.deviation, 2.0 / 3.0 - 1.0, 1e-12);
+  ASSERT_EQ(check.problems.size(), 2u);
+  EXPECT_NE(check.problems[0].find("less volume"), std::string::npos) << check.problems[0];
+  EXPECT_NE(check.problems[1].find("2 separate pieces"), std::string::npos) << check.problems[1];
+  // Two cubes side by side, sharing the face x = 1: one piece.
+  TetMesh joined = test::kuhnCube();
+  const TetMesh next = test::kuhnCube();
+  for (const Point3& p : next.points) joined.points.push_back({p[0] + 1, p[1], p[2]});
+  for (const auto& t : next.tets) joined.tets.push_back({t[0] + 8, t[1] + 8, t[2] + 8, t[3] + 8});
+  joined.tet_materials.insert(joined.tet_materials.end(), next.tet_materials.begin(), next.tet_materials.end());
+  joined.vertex_dimension.assign(joined.points.size(), 2);
+  joined.vertex_curve.assign(joined.points.size(), -1);
+  // Merge the coincident points of the shared face x = 1 so the cubes share triangles.
+  for (auto& t : joined.tets)
+    for (auto& v : t)
+      if (v >= 8 && (v - 8) % 2 == 0) v = (v - 8) + 1;
+  EXPECT_EQ(checkMeshAgainstInputs(joined, oracle, measureQuality(joined).volume_per_material).materials.at(1).components, 1);
+}
+
+}  // namespace
+}  // namespace oraclemesh
