@@ -188,6 +188,10 @@ json inputsJson(const std::vector<InputReport>& inputs) {
 
 }  // namespace
 
+namespace {
+constexpr double kFlatElementDeg = 0.1;
+}  // namespace
+
 void addMeshWarnings(JobReport& report) {
   const BoundarySnapStatistics& snap = report.boundary_snap.statistics;
   if (snap.kept_off_surface > 0) {
@@ -203,6 +207,15 @@ void addMeshWarnings(JobReport& report) {
     report.warnings.push_back(std::to_string(conformity.inverted_tets) +
                               " tetrahedra are inverted (or fold, for tet10) after putting nodes on the CAD faces");
   if (!conformity.ok()) report.warnings.push_back("the mesh failed its conformity check (see report.conformity)");
+  // Solvers reject elements this flat (CalculiX: "nonpositive jacobian") though their volume is
+  // still positive, so the conformity check does not count them.
+  if (report.counts.tets > 0 && report.quality.min_dihedral < kFlatElementDeg) {
+    std::ostringstream message;
+    message << "the mesh has elements with dihedral angles down to " << report.quality.min_dihedral
+            << " degrees, which a solver may reject as flat (CalculiX: 'nonpositive jacobian'); see report.quality "
+               "and report.thesis.slivers_left, and try finer sizes where the inputs meet at small angles";
+    report.warnings.push_back(message.str());
+  }
 }
 
 json reportJson(const JobReport& r) {
