@@ -33,7 +33,7 @@ TEST(JobValidation, IntegersBeyond32BitsAreRefusedNotTruncated) {
   job["inputs"][0]["material"] = 4294967297;  // used to be read as material 1
   EXPECT_EQ(parseError(job),
             "inputs[0].material (input 'ball') = 4294967297 is not a whole number from 1 to 2147483647: material ids "
-            "are positive integers (1, 2, ...)");
+            "are positive integer ids (1, 2, ...)");
   job = ballJob();
   job["element_order"] = 4294967297;  // used to be read as 1
   EXPECT_EQ(parseError(job), "element_order must be 1 (tet4) or 2 (tet10), got 4294967297");

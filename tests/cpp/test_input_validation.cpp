@@ -141,7 +141,8 @@ TEST(InputValidation, PolylineFarOutsideTheModelIsRefusedBeforeSampling) {
   const std::string message = inputErrorOf([] {
     userPolylineFeatures({{{0, 0, 0}, {0, 2147483648.0, 0}}}, ball(), 0.1);
   });
-  EXPECT_TRUE(contains(message, "features.polylines[0] point 1 (0, 2.14748e+09, 0) lies outside the bounding box"))
+  EXPECT_TRUE(contains(message, "features.polylines[0] leaves the meshed domain: point 1 (0, 2.14748e+09, 0) lies outside the "
+                                "bounding box"))
       << message;
 }
 

@@ -22,7 +22,7 @@ CLI = os.path.join(BUILD, "oraclemesh")
 
 # Per job file of tests/data/bad: what its message must contain (the input or key, the fix).
 EXPECTED = {
-    "material_overflow": ["inputs[0].material", "4294967297", "positive integers"],
+    "material_overflow": ["inputs[0].material", "4294967297", "positive integer ids"],
     "element_order_overflow": ["element_order", "4294967297"],
     "max_vertices_overflow": ["limits.max_vertices", "1e+19"],
     "number_overflow": ["1e999", "numbers must be finite"],
@@ -33,7 +33,7 @@ EXPECTED = {
     "deep_nesting": ["levels deep"],
     "nrrd_huge_header": ["input 'scan'", "huge_header.nrrd", "truncated"],
     "nrrd_anisotropic": ["input 'scan'", "anisotropic.nrrd", "resample"],
-    "polyline_far": ["features.polylines[0] point 1", "outside the bounding box"],
+    "polyline_far": ["features.polylines[0] leaves the meshed domain: point 1", "outside the bounding box"],
     "polyline_wrong_brep": ["features.polylines[0] point 0", "the brep must be the edge"],
     "stl_nan_vertex": ["input 'bone'", "nan_vertex.stl", "not a finite number"],
     "stl_inf_vertex": ["input 'bone'", "inf_vertex.stl", "not a finite number"],

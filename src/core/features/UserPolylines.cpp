@@ -48,7 +48,7 @@ void checkPolyline(size_t index, const std::vector<Point3>& points, const Hierar
     const Point3& p = points[k];
     for (int a = 0; a < 3; ++a)
       if (!(p[a] >= box.min[a] - slack && p[a] <= box.max[a] + slack))
-        throw InputError(where + " point " + std::to_string(k) + " " + pointText(p) +
+        throw InputError(where + " leaves the meshed domain: point " + std::to_string(k) + " " + pointText(p) +
                          " lies outside the bounding box of the inputs (" + pointText(box.min) + " to " +
                          pointText(box.max) + "): draw the polyline on or inside the parts, in model units (mm)");
   }

@@ -19,7 +19,7 @@ using nlohmann::json;
 using jobjson::shortDump;
 
 constexpr int64_t kMaxMaterialId = INT32_MAX;
-const char* const kMaterialFix = "material ids are positive integers (1, 2, ...)";
+const char* const kMaterialFix = "material ids are positive integer ids (1, 2, ...)";
 constexpr int64_t kMaxVertexLimit = 10'000'000'000;
 constexpr double kMaxTimeLimit = 365.0 * 24 * 3600;
 
@@ -100,12 +100,13 @@ void parseSurface(const json& surface, const std::string& label, const std::stri
   s.surface_triangles.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const json& t = triangles[i];
-    // Unsigned: a negative or a too large index is not a point, whatever its bits.
-    if (!t.is_array() || t.size() != 3 || !t[0].is_number_unsigned() || !t[1].is_number_unsigned() ||
-        !t[2].is_number_unsigned() || t[0].get<uint64_t>() >= points.size() || t[1].get<uint64_t>() >= points.size() ||
-        t[2].get<uint64_t>() >= points.size())
+    // Indices beyond int64 would wrap; the ones beyond the points are named when the surface is built.
+    auto index = [](const json& v) {
+      return v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t(INT64_MAX) : v.is_number_integer();
+    };
+    if (!t.is_array() || t.size() != 3 || !index(t[0]) || !index(t[1]) || !index(t[2]))
       throw InputError(label + ": " + path + ".triangles[" + std::to_string(i) + "] = " + shortDump(t) +
-                       " is not three indices of its " + std::to_string(points.size()) + " points" + form);
+                       " is not three point indices" + form);
     s.surface_triangles.push_back({t[0].get<int64_t>(), t[1].get<int64_t>(), t[2].get<int64_t>()});
   }
 }
