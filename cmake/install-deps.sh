@@ -18,6 +18,8 @@ packages=(
   freecad calculix-ccx
   # peers for comparisons and benchmarks; examples/implant_in_bone/measure.py (KD-tree)
   gmsh tetgen python3-scipy
+  # fuzzing the job parser and the file readers (tests/fuzz: clang's libFuzzer)
+  clang libclang-rt-14-dev
   # GUI tests (workbench under a virtual display); matplotlib also draws the batch plots
   xvfb xauth python3-matplotlib
   # batch studies (oraclemesh batch) run on Dask

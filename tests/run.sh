@@ -24,5 +24,8 @@ status=0
 ctest --test-dir "$build" --output-on-failure -j2 || status=1
 PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -p no:cacheprovider \
   -v tests/python tests/freecad || status=1
+# The parsers and readers under libFuzzer, briefly (its own small clang build; a long run of
+# one target: bash tests/fuzz/run.sh 600 nrrd).
+bash tests/fuzz/run.sh 8 || status=1
 echo "tests/run.sh: build + tests took $(( $(date +%s) - start )) s"
 exit $status

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "BatchCommand.h"
@@ -76,6 +77,12 @@ int main(int argc, char** argv) {
   } catch (const oraclemesh::Cancelled& e) {
     std::cerr << "\noraclemesh: " << e.what() << "\n";
     return 3;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "\noraclemesh: stopped: out of memory: coarsen the sizes (criteria) or lower limits.max_vertices\n";
+    return 3;
+  } catch (const oraclemesh::Error& e) {  // not the input's fault (a file system error, ...) but explained
+    std::cerr << "\noraclemesh: error: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "\noraclemesh: internal error: " << e.what() << "\n";
     return 1;

@@ -66,7 +66,9 @@ py::dict toPython(const JobResult& result) {
 py::dict run(const std::string& jobJson, const std::string& baseDirectory, py::object progress) {
   const JobSpec job = JobSpec::fromJsonText(jobJson, baseDirectory);
   RunControl* controlPtr = nullptr;
-  std::string callbackError;
+  // The callback's own exception, raised again once the core has stopped: the caller sees
+  // what its callback did, not "cancelled".
+  std::shared_ptr<py::error_already_set> callbackError;
   RunControl control(
       [&](const std::string& phase, double fraction) {
         if (progress.is_none()) return;
@@ -77,17 +79,24 @@ py::dict run(const std::string& jobJson, const std::string& baseDirectory, py::o
           if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         } catch (py::error_already_set& e) {
           // A failing or interrupted callback must not unwind through CGAL: stop cleanly.
-          callbackError = e.what();
+          if (!callbackError) callbackError = std::make_shared<py::error_already_set>(std::move(e));
           controlPtr->requestCancel();
         }
       },
       job.time_limit);
   controlPtr = &control;
   JobResult result;
+  bool stoppedByCallback = false;
   {
     py::gil_scoped_release release;
-    result = runJob(job, control);
+    try {
+      result = runJob(job, control);
+    } catch (const Error&) {
+      if (!callbackError) throw;
+      stoppedByCallback = true;  // raised below, with the GIL held again
+    }
   }
+  if (stoppedByCallback) throw *callbackError;
   return toPython(result);
 }
 

@@ -4,6 +4,7 @@
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <tuple>
@@ -15,6 +16,7 @@ namespace oraclemesh {
 
 namespace {
 
+constexpr double kMaxSpacingRatio = 1000;
 constexpr int kAxisSteps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
 std::string labelList(const std::map<int32_t, int64_t>& counts) {
@@ -42,6 +44,16 @@ LabeledImage::LabeledImage(std::array<int64_t, 3> size, Point3 spacing, Point3 o
     if (size_[a] <= 0)
       throw InputError(description_ + " has no voxels along axis " + std::to_string(a) + ": give a 3D image");
   }
+  // Far from cubic voxels the field's cells are needles: crossings and projections lose the
+  // precision they are bisected to (and a mesh of such an image is no use anyway).
+  const double finest = std::min({spacing_[0], spacing_[1], spacing_[2]});
+  const double coarsest = std::max({spacing_[0], spacing_[1], spacing_[2]});
+  if (coarsest > kMaxSpacingRatio * finest)
+    throw InputError(description_ + " has voxels " + std::to_string(coarsest / finest) +
+                     " times longer along one axis than along another (spacing " + std::to_string(spacing_[0]) + ", " +
+                     std::to_string(spacing_[1]) + ", " + std::to_string(spacing_[2]) + "): resample it to voxels at "
+                     "most " + std::to_string(int(kMaxSpacingRatio)) + " times longer than wide, and check the "
+                     "spacing units");
   if (static_cast<int64_t>(labels_.size()) != size_[0] * size_[1] * size_[2])
     throw InputError(description_ + " holds " + std::to_string(labels_.size()) + " labels for " +
                      std::to_string(size_[0]) + " x " + std::to_string(size_[1]) + " x " + std::to_string(size_[2]) +
@@ -328,7 +340,9 @@ std::vector<BoundaryCrossing> ImageLabelRegion::crossings(const Point3& a, const
       if ((value > 0) != (previous > 0)) {
         double lo = previousT, hi = t;
         const bool wasInside = previous > 0;
-        while ((hi - lo) * length > tolerance) {
+        // Also ends where doubles cannot halve the interval any more (a long segment, a fine
+        // tolerance), which would otherwise loop for ever.
+        for (int halving = 0; halving < 200 && (hi - lo) * length > tolerance; ++halving) {
           const double mid = 0.5 * (lo + hi);
           ((field(mid) > 0) == wasInside ? lo : hi) = mid;
         }

@@ -213,18 +213,19 @@ class NrrdFile {
       if (flip_[a]) origin_[a] -= static_cast<double>(size_[a] - 1) * spacing_[a];
   }
 
-  std::string inflateGzip(const std::string& compressed) const {
+  // At most `wanted` bytes: the output grows with what the data really holds, so a header
+  // that declares a huge image over a few bytes of gzip allocates nothing large.
+  std::string inflateGzip(const std::string& compressed, size_t wanted) const {
     z_stream stream{};
     if (inflateInit2(&stream, 15 + 32) != Z_OK) fail("zlib could not start", "retry; report if it persists");
     std::string out;
-    const size_t expected = static_cast<size_t>(size_[0] * size_[1] * size_[2]) * type_.bytes;
-    out.resize(std::max<size_t>(expected, 1));
+    out.resize(std::max<size_t>(1, std::min(wanted, 4 * compressed.size() + 4096)));
     stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
     stream.avail_in = static_cast<uInt>(compressed.size());
     size_t produced = 0;
     int status = Z_OK;
-    while (status == Z_OK) {
-      if (produced == out.size()) out.resize(out.size() * 2);
+    while (status == Z_OK && produced < wanted) {
+      if (produced == out.size()) out.resize(std::min(wanted, out.size() * 2));
       stream.next_out = reinterpret_cast<Bytef*>(&out[produced]);
       stream.avail_out = static_cast<uInt>(std::min<size_t>(out.size() - produced, 1u << 30));
       const uInt before = stream.avail_out;
@@ -247,18 +248,40 @@ class NrrdFile {
       const std::string key = fields_.count(field) ? field : alias;
       if (!fields_.count(key)) return 0;
       const std::vector<double> v = numbers(fields_[key], key);
-      if (v.size() != 1 || v[0] != std::floor(v[0]) || v[0] < static_cast<double>(lowest))
+      if (v.size() != 1 || v[0] != std::floor(v[0]) || v[0] < static_cast<double>(lowest) || !(v[0] < 1e15))
         fail("'" + key + ": " + fields_[key] + "' is not a valid count",
              std::string("give a whole number of ") + (lowest < 0 ? "bytes (or -1)" : "lines"));
       return static_cast<int64_t>(v[0]);
     };
     const int64_t lineSkip = skip("line skip", "lineskip", 0);
     int64_t byteSkip = skip("byte skip", "byteskip", -1);
+    size_t dataStart = 0;
     for (int64_t l = 0; l < lineSkip; ++l) {
-      const size_t nl = encoded.find('\n');
+      const size_t nl = encoded.find('\n', dataStart);
       if (nl == std::string::npos) fail("'line skip' skips past the end of the data", "fix 'line skip'");
-      encoded.erase(0, nl + 1);
+      dataStart = nl + 1;
     }
+    encoded.erase(0, dataStart);
+    // The data is checked to be there before the labels are allocated (a header may declare
+    // billions of voxels over an empty file).
+    if (encoding_ == "ascii" && static_cast<int64_t>(encoded.size()) + 1 < 2 * count)
+      fail("the ascii data has " + std::to_string(encoded.size()) + " characters, too few for " + std::to_string(count) +
+               " voxels",
+           "the file is truncated or 'sizes' is wrong; export it again");
+    const int64_t bytes = count * type_.bytes;
+    std::string raw;
+    if (encoding_ == "raw") {
+      if (byteSkip == -1) byteSkip = std::max<int64_t>(0, static_cast<int64_t>(encoded.size()) - bytes);
+      raw = encoded.substr(std::min<size_t>(encoded.size(), static_cast<size_t>(byteSkip)));
+    } else if (encoding_ == "gzip") {
+      if (byteSkip < 0) fail("'byte skip: -1' is only defined for raw data", "remove it or save the data raw");
+      raw = inflateGzip(encoded, static_cast<size_t>(byteSkip + bytes));
+      raw.erase(0, std::min<size_t>(raw.size(), static_cast<size_t>(byteSkip)));
+    }
+    if (encoding_ != "ascii" && static_cast<int64_t>(raw.size()) < bytes)
+      fail("the data is truncated: " + std::to_string(raw.size()) + " bytes for " + std::to_string(count) + " voxels of " +
+               std::to_string(type_.bytes) + " bytes (" + std::to_string(bytes) + " needed)",
+           "export the image again; check 'sizes' and 'type'");
     std::vector<int32_t> labels(static_cast<size_t>(count));
     auto store = [&](int64_t n, int64_t value) {
       // NRRD order: axis 0 fastest. Flipped axes are stored reversed.
@@ -283,20 +306,6 @@ class NrrdFile {
       }
       return labels;
     }
-    const int64_t bytes = count * type_.bytes;
-    std::string raw;
-    if (encoding_ == "raw") {
-      if (byteSkip == -1) byteSkip = std::max<int64_t>(0, static_cast<int64_t>(encoded.size()) - bytes);
-      raw = encoded.substr(std::min<size_t>(encoded.size(), static_cast<size_t>(byteSkip)));
-    } else {
-      if (byteSkip < 0) fail("'byte skip: -1' is only defined for raw data", "remove it or save the data raw");
-      raw = inflateGzip(encoded);
-      raw.erase(0, std::min<size_t>(raw.size(), static_cast<size_t>(byteSkip)));
-    }
-    if (static_cast<int64_t>(raw.size()) < bytes)
-      fail("the data is truncated: " + std::to_string(raw.size()) + " bytes for " + std::to_string(count) + " voxels of " +
-               std::to_string(type_.bytes) + " bytes (" + std::to_string(bytes) + " needed)",
-           "export the image again; check 'sizes' and 'type'");
     const unsigned char* data = reinterpret_cast<const unsigned char*>(raw.data());
     for (int64_t n = 0; n < count; ++n) {
       const unsigned char* sample = data + n * type_.bytes;

@@ -4,7 +4,6 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -17,12 +16,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include "Error.h"
+#include "domain/TriangleSurfaceFile.h"
 
 namespace oraclemesh {
 
@@ -77,12 +75,6 @@ TriangleSurface::~TriangleSurface() = default;
 
 namespace {
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
 std::string where(const KPoint& p) {
   std::ostringstream out;
   out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
@@ -93,38 +85,8 @@ std::string where(const KPoint& p) {
 
 std::shared_ptr<TriangleSurface> TriangleSurface::fromFile(const std::string& path, const std::string& name) {
   const std::string what = "input '" + name + "' (file '" + path + "')";
-  if (!std::filesystem::is_regular_file(path)) throw InputError(what + " cannot be read: check the path");
-  if (std::filesystem::file_size(path) == 0) throw InputError(what + " is empty: export the surface again");
-  const std::string ext = lowerExtension(path);
-  if (ext != ".stl" && ext != ".obj" && ext != ".off")
-    throw InputError(what + ": triangle surfaces are read from .stl, .obj or .off files");
-
-  std::vector<KPoint> points;
-  std::vector<std::vector<std::size_t>> polygons;
-  bool read = false;
-  try {
-    read = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
-  } catch (const std::exception&) {
-    read = false;
-  }
-  if (!read || polygons.empty())
-    throw InputError(what + " is not a readable " + ext.substr(1) +
-                     " file with triangles (truncated or damaged?): export it again");
-  for (const auto& polygon : polygons) {
-    for (std::size_t v : polygon)
-      if (v >= points.size()) throw InputError(what + " refers to vertices it does not have: export it again");
-    if (polygon.size() != 3)
-      throw InputError(what + " has a face with " + std::to_string(polygon.size()) +
-                       " corners: only triangles are read; triangulate the surface when exporting it");
-  }
-  std::vector<Point3> corners;
-  corners.reserve(points.size());
-  for (const KPoint& p : points) corners.push_back({p.x(), p.y(), p.z()});
-  std::vector<std::array<int64_t, 3>> triangles;
-  triangles.reserve(polygons.size());
-  for (const auto& t : polygons)
-    triangles.push_back({static_cast<int64_t>(t[0]), static_cast<int64_t>(t[1]), static_cast<int64_t>(t[2])});
-  return validated(std::move(corners), triangles, name, what,
+  TriangleSoup soup = readTriangleSurfaceFile(path, what);
+  return validated(std::move(soup.points), soup.triangles, name, what,
                    [](std::size_t t) { return "triangle " + std::to_string(t + 1) + " of the file (counting from 1)"; });
 }
 
@@ -133,9 +95,10 @@ std::shared_ptr<TriangleSurface> TriangleSurface::fromTriangles(std::vector<Poin
                                                                 const std::string& name) {
   const std::string what = "input '" + name + "' (triangle surface)";
   if (triangles.empty()) throw InputError(what + " is empty: give at least the triangles of one closed surface");
-  for (const Point3& p : points)
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      throw InputError(what + " has a point with a coordinate that is not a finite number: fix the points");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!std::isfinite(points[i][0]) || !std::isfinite(points[i][1]) || !std::isfinite(points[i][2]))
+      throw InputError(what + ": points[" + std::to_string(i) +
+                       "] has a coordinate that is not a finite number: fix the points");
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (int64_t v : triangles[t])
       if (v < 0 || v >= static_cast<int64_t>(points.size()))

@@ -30,6 +30,42 @@ std::string where(size_t polyline, const Point3& p) {
   return out.str();
 }
 
+std::string pointText(const Point3& p) {
+  std::ostringstream out;
+  out << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return out.str();
+}
+
+// Before anything is sampled: a point far outside the inputs would give billions of samples,
+// and an exact edge the points do not lie on (another edge's BREP) would pull the mesh nodes
+// of this polyline somewhere else, which the refinement cannot satisfy.
+void checkPolyline(size_t index, const std::vector<Point3>& points, const HierarchicalOracle& oracle,
+                   const UserCurve* exact) {
+  const Bbox& box = oracle.bbox();
+  const double slack = 1e-6 * oracle.diagonal();
+  const std::string where = "features.polylines[" + std::to_string(index) + "]";
+  for (size_t k = 0; k < points.size(); ++k) {
+    const Point3& p = points[k];
+    for (int a = 0; a < 3; ++a)
+      if (!(p[a] >= box.min[a] - slack && p[a] <= box.max[a] + slack))
+        throw InputError(where + " leaves the meshed domain: point " + std::to_string(k) + " " + pointText(p) +
+                         " lies outside the bounding box of the inputs (" + pointText(box.min) + " to " +
+                         pointText(box.max) + "): draw the polyline on or inside the parts, in model units (mm)");
+  }
+  if (!exact) return;
+  // FreeCAD samples the points on the edge itself: they lie on it up to OpenCASCADE's
+  // precision. A thousandth of the model is generous for any sampling and still catches a
+  // BREP that belongs to another edge.
+  const double onEdge = 1e-3 * oracle.diagonal();
+  for (size_t k = 0; k < points.size(); ++k) {
+    const double off = distance(points[k], exact->nearest(points[k]));
+    if (!(off <= onEdge))
+      throw InputError(where + " point " + std::to_string(k) + " " + pointText(points[k]) + " is " +
+                       std::to_string(off) + " away from the edge in " + where +
+                       ".brep: the brep must be the edge the points were sampled from (or leave 'brep' out)");
+  }
+}
+
 }  // namespace
 
 FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polylines, const HierarchicalOracle& oracle,
@@ -40,12 +76,19 @@ FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polyli
   for (size_t i = 0; i < polylines.size(); ++i) {
     const std::vector<Point3>& in = polylines[i];
     const UserCurve* exact = i < curves.size() ? curves[i].get() : nullptr;
+    checkPolyline(i, in, oracle, exact);
     // Each given segment is a polyline of its own: Mesh_3 keeps polyline ends as vertices but
     // may cut across a kink in the middle of a polyline.
     for (size_t k = 0; k + 1 < in.size(); ++k) {
       FeaturePolyline out;
       out.user = static_cast<int>(i);
-      const int pieces = std::max(1, static_cast<int>(std::ceil(distance(in[k], in[k + 1]) / maxSegmentLength)));
+      // Bounded: the points are inside the model's box and the edge size is at least a
+      // millionth of it (ResolvedCriteria).
+      const double count = std::ceil(distance(in[k], in[k + 1]) / maxSegmentLength);
+      if (!(count <= 1e7))
+        throw InputError("features.polylines[" + std::to_string(i) + "] segment " + std::to_string(k) +
+                         " would need " + std::to_string(count) + " pieces of the edge size: raise edge_size");
+      const int pieces = std::max(1, static_cast<int>(count));
       for (int j = 0; j <= pieces; ++j)
         out.points.push_back(j == pieces ? in[k + 1] : in[k] + (double(j) / pieces) * (in[k + 1] - in[k]));
       // Every vertex and segment middle inside the composite domain or on its boundary.

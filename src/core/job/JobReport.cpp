@@ -250,7 +250,8 @@ json reportJson(const JobReport& r) {
 
 void writeReportFile(const std::string& path, const json& report) {
   std::ofstream out(path);
-  if (!out) throw Error("cannot write the report to '" + path + "': check that the folder exists and is writable");
+  if (!out)
+    throw Error("cannot write the report to '" + path + "': check that the folder exists and is writable (output.report)");
   out << report.dump(2) << "\n";
 }
 

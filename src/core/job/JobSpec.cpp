@@ -9,11 +9,19 @@
 #include <set>
 
 #include "Error.h"
+#include "job/JobJson.h"
+#include "mesh/Writers.h"
 
 namespace oraclemesh {
 namespace {
 
 using nlohmann::json;
+using jobjson::shortDump;
+
+constexpr int64_t kMaxMaterialId = INT32_MAX;
+const char* const kMaterialFix = "material ids are positive integer ids (1, 2, ...)";
+constexpr int64_t kMaxVertexLimit = 10'000'000'000;
+constexpr double kMaxTimeLimit = 365.0 * 24 * 3600;
 
 std::string resolvePath(const std::string& path, const std::string& base) {
   std::filesystem::path p(path);
@@ -22,12 +30,7 @@ std::string resolvePath(const std::string& path, const std::string& base) {
 }
 
 double positiveNumber(const json& value, const std::string& where) {
-  if (!value.is_number())
-    throw InputError(where + " must be a number, got " + value.dump() + ": give a positive length in model units (mm)");
-  const double v = value.get<double>();
-  if (!std::isfinite(v) || v <= 0)
-    throw InputError(where + " = " + value.dump() + " is not a positive finite number: give a positive value in model units (mm)");
-  return v;
+  return jobjson::positiveNumber(value, where, "give a positive value in model units (mm)");
 }
 
 void rejectUnknownKeys(const json& object, const std::set<std::string>& known, const std::string& where) {
@@ -35,7 +38,8 @@ void rejectUnknownKeys(const json& object, const std::set<std::string>& known, c
     if (!known.count(key)) {
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw InputError("unknown key '" + key + "' in " + where + ": the known keys are " + list);
+      const std::string shown = key.size() > 40 ? key.substr(0, 37) + "..." : key;
+      throw InputError("unknown key '" + shown + "' in " + where + ": the known keys are " + list);
     }
 }
 
@@ -58,6 +62,15 @@ CriteriaSpec parseCriteria(const json& c, const std::string& where) {
   return s;
 }
 
+// Checked before meshing, not when the file is written an hour later.
+void checkOutputFolder(const std::string& path, const std::string& where) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw InputError(where + " = '" + path + "': the folder '" + folder.string() +
+                     "' does not exist: create it or fix the path (relative paths are taken from the job's folder)");
+}
+
 bool isTriangleSurfaceFile(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -66,7 +79,7 @@ bool isTriangleSurfaceFile(const std::string& path) {
 
 // {"points": [[x, y, z], ...], "triangles": [[i, j, k], ...]} with 0-based indices; the
 // geometry (closed, manifold, oriented) is checked when the surface is built.
-void parseSurface(const json& surface, const std::string& label, InputSpec& s) {
+void parseSurface(const json& surface, const std::string& label, const std::string& path, InputSpec& s) {
   const std::string form = ": 'surface' must be {\"points\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...]} "
                            "with point indices counted from 0";
   if (!surface.is_object() || !surface.contains("points") || !surface.contains("triangles") ||
@@ -79,16 +92,20 @@ void parseSurface(const json& surface, const std::string& label, InputSpec& s) {
   for (size_t i = 0; i < points.size(); ++i) {
     const json& p = points[i];
     if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
-      throw InputError(label + ": surface points[" + std::to_string(i) + "] = " + p.dump() + " is not [x, y, z]" + form);
+      throw InputError(label + ": " + path + ".points[" + std::to_string(i) + "] = " + shortDump(p) + " is not [x, y, z]" +
+                       form);
     s.surface_points.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
   }
   const json& triangles = surface["triangles"];
   s.surface_triangles.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const json& t = triangles[i];
-    if (!t.is_array() || t.size() != 3 || !t[0].is_number_integer() || !t[1].is_number_integer() ||
-        !t[2].is_number_integer())
-      throw InputError(label + ": surface triangles[" + std::to_string(i) + "] = " + t.dump() +
+    // Indices beyond int64 would wrap; the ones beyond the points are named when the surface is built.
+    auto index = [](const json& v) {
+      return v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t(INT64_MAX) : v.is_number_integer();
+    };
+    if (!t.is_array() || t.size() != 3 || !index(t[0]) || !index(t[1]) || !index(t[2]))
+      throw InputError(label + ": " + path + ".triangles[" + std::to_string(i) + "] = " + shortDump(t) +
                        " is not three point indices" + form);
     s.surface_triangles.push_back({t[0].get<int64_t>(), t[1].get<int64_t>(), t[2].get<int64_t>()});
   }
@@ -111,8 +128,11 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
   rejectUnknownKeys(in, {"name", "file", "brep", "sphere", "surface", "image", "role", "material", "materials", "solids"},
                     where);
   InputSpec s;
-  s.name = in.value("name", std::string("input ") + std::to_string(index + 1));
+  s.name = in.contains("name") ? jobjson::string(in["name"], where + ".name", "give the input a name, e.g. \"pin\"")
+                               : "input " + std::to_string(index + 1);
   const std::string label = "input '" + s.name + "'";
+  const std::string role =
+      in.contains("role") ? jobjson::string(in["role"], where + ".role", "use \"material\" or \"cut\"") : "material";
   const int kinds = int(in.contains("file")) + int(in.contains("brep")) + int(in.contains("sphere")) +
                     int(in.contains("surface")) + int(in.contains("image"));
   if (kinds != 1)
@@ -129,7 +149,7 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     s.kind = InputSpec::Kind::BrepText;
     s.brep_text = in["brep"].get<std::string>();
   } else if (in.contains("surface")) {
-    parseSurface(in["surface"], label, s);
+    parseSurface(in["surface"], label, where + ".surface", s);
   } else if (in.contains("image")) {
     if (!in["image"].is_string() || in["image"].get<std::string>().empty())
       throw InputError(label + ": 'image' must be the path of a NRRD label image (.nrrd/.nhdr); from Python it may also "
@@ -138,7 +158,7 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     s.image = resolvePath(in["image"].get<std::string>(), base);
     if (in.contains("material"))
       throw InputError(label + " is an image: give 'materials' (label -> material, e.g. {\"1\": 2, \"2\": 4}) instead of 'material'");
-    if (in.value("role", std::string("material")) != "material")
+    if (role != "material")
       throw InputError(label + ": image inputs can only have role 'material'; cut with another input instead");
     const json& m = in.contains("materials") ? in["materials"] : json();
     if (!m.is_object() || m.empty())
@@ -149,8 +169,8 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
       if (imageLabel <= 0)
         throw InputError(label + ": 'materials' key '" + key + "' is not an image label: use positive integer labels as keys "
                          "(label 0 is background and is never meshed)");
-      if (!value.is_number_integer() || value.get<int>() <= 0)
-        throw InputError(label + ": 'materials' maps label " + key + " to " + value.dump() +
+      if (!value.is_number_unsigned() || value.get<uint64_t>() == 0 || value.get<uint64_t>() > uint64_t(kMaxMaterialId))
+        throw InputError(label + ": 'materials' (" + where + ".materials) maps label " + key + " to " + shortDump(value) +
                          ": material ids must be positive integers (1, 2, ...)");
       s.image_materials[imageLabel] = value.get<int>();
     }
@@ -160,12 +180,10 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     if (!sp.is_object() || !sp.contains("center") || !sp.contains("radius") || !sp["center"].is_array() || sp["center"].size() != 3)
       throw InputError(label + ": 'sphere' must be {\"center\": [x, y, z], \"radius\": r}");
     s.kind = InputSpec::Kind::Sphere;
-    for (int i = 0; i < 3; ++i) {
-      if (!sp["center"][i].is_number() || !std::isfinite(sp["center"][i].get<double>()))
-        throw InputError(label + ": sphere centre coordinates must be finite numbers");
-      s.center[i] = sp["center"][i].get<double>();
-    }
-    s.radius = positiveNumber(sp["radius"], label + " sphere radius");
+    for (int i = 0; i < 3; ++i)
+      s.center[i] = jobjson::number(sp["center"][i], where + ".sphere.center[" + std::to_string(i) + "]",
+                                    "the centre of " + label + " must be three finite numbers");
+    s.radius = positiveNumber(sp["radius"], where + ".sphere.radius (" + label + ")");
   }
   const bool brep = s.kind == InputSpec::Kind::BrepText || (s.kind == InputSpec::Kind::File && !isTriangleSurfaceFile(s.file));
   if (in.contains("solids")) {
@@ -175,18 +193,15 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
     const json& g = in["solids"];
     if (g != "separate" && g != "together")
       throw InputError(label + ": 'solids' must be \"separate\" (one input per solid, in file order) or "
-                       "\"together\" (all solids as one input), got " + g.dump());
+                       "\"together\" (all solids as one input), got " + shortDump(g));
     s.solids_together = g == "together";
   }
-  const std::string role = in.value("role", std::string("material"));
   if (role == "material") {
     s.role = Role::Material;
-    if (!in.contains("material"))
-      s.material = static_cast<int>(index) + 1;
-    else if (!in["material"].is_number_integer() || in["material"].get<int>() <= 0)
-      throw InputError(label + ": 'material' must be a positive integer id (1, 2, ...), got " + in["material"].dump());
-    else
-      s.material = in["material"].get<int>();
+    s.material = in.contains("material")
+                     ? static_cast<int>(jobjson::integer(in["material"], where + ".material (" + label + ")", 1,
+                                                         kMaxMaterialId, kMaterialFix))
+                     : static_cast<int>(std::min<size_t>(index + 1, kMaxMaterialId));
     if (in.contains("materials")) {
       if (in.contains("material"))
         throw InputError(label + " has both 'material' and 'materials': give one material for all solids, or a list "
@@ -198,11 +213,9 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
       const json& list = in["materials"];
       if (!list.is_array() || list.empty())
         throw InputError(label + ": 'materials' must be a list of material ids, one per solid in file order, e.g. [1, 2, 2]");
-      for (const json& m : list) {
-        if (!m.is_number_integer() || m.get<int>() <= 0)
-          throw InputError(label + ": 'materials' entries must be positive integer ids, got " + m.dump());
-        s.solid_materials.push_back(m.get<int>());
-      }
+      for (size_t k = 0; k < list.size(); ++k)
+        s.solid_materials.push_back(static_cast<int>(jobjson::integer(
+            list[k], where + ".materials[" + std::to_string(k) + "] (" + label + ")", 1, kMaxMaterialId, kMaterialFix)));
     }
   } else if (role == "cut") {
     s.role = Role::Cut;
@@ -228,13 +241,7 @@ std::vector<int> InputSpec::materials() const {
 }
 
 JobSpec JobSpec::fromJsonText(const std::string& text, const std::string& baseDirectory) {
-  json job;
-  try {
-    job = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw InputError(std::string("the job is not valid JSON: ") + e.what());
-  }
-  return fromJson(job, baseDirectory);
+  return fromJson(jobjson::parse(text), baseDirectory);
 }
 
 static Point3 parsePoint(const json& p, const std::string& where) {
@@ -244,7 +251,7 @@ static Point3 parsePoint(const json& p, const std::string& where) {
     ok = p[c].is_number() && std::isfinite(p[c].get<double>());
     if (ok) q[c] = p[c].get<double>();
   }
-  if (!ok) throw InputError(where + " = " + p.dump() + " is not [x, y, z] with finite numbers");
+  if (!ok) throw InputError(where + " = " + shortDump(p) + " is not [x, y, z] with finite numbers");
   return q;
 }
 
@@ -269,7 +276,7 @@ static std::vector<std::vector<Point3>> parsePolylines(const json& value, std::v
       const json& p = item[k];
       const Point3 q = parsePoint(p, where + " point " + std::to_string(k));
       if (!points.empty() && q == points.back())
-        throw InputError(where + " repeats point " + std::to_string(k) + " " + p.dump() + ": remove the duplicate");
+        throw InputError(where + " repeats point " + std::to_string(k) + " " + shortDump(p) + ": remove the duplicate");
       points.push_back(q);
     }
     polylines.push_back(std::move(points));
@@ -321,18 +328,12 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
         const json& angle = f["sharp_angle_deg"];
         spec.sharp_angle_deg = angle.is_number() ? angle.get<double>() : -1;
         if (!(spec.sharp_angle_deg >= 0 && spec.sharp_angle_deg < 180))
-          throw InputError("features.sharp_angle_deg = " + angle.dump() +
+          throw InputError("features.sharp_angle_deg = " + shortDump(angle) +
                            " must be a number from 0 (no sharp edges) to below 180 degrees");
       }
-      if (f.contains("junctions")) {
-        if (!f["junctions"].is_boolean()) throw InputError("features.junctions must be true or false");
-        spec.junctions = f["junctions"].get<bool>();
-      }
+      if (f.contains("junctions")) spec.junctions = jobjson::boolean(f["junctions"], "features.junctions");
       if (f.contains("polylines")) spec.user_polylines = parsePolylines(f["polylines"], spec.user_polyline_curves);
-      if (f.contains("planar_faces")) {
-        if (!f["planar_faces"].is_boolean()) throw InputError("features.planar_faces must be true or false");
-        spec.planar_faces = f["planar_faces"].get<bool>();
-      }
+      if (f.contains("planar_faces")) spec.planar_faces = jobjson::boolean(f["planar_faces"], "features.planar_faces");
     } else {
       throw InputError("'features' must be false or an object like {\"sharp_angle_deg\": 30}");
     }
@@ -345,7 +346,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     else if (engine == engineName(Engine::Cgal))
       spec.engine = Engine::Cgal;
     else
-      throw InputError("engine must be 'cgal' (Mesh_3) or 'thesis' (Rule Set T), got " + job["engine"].dump());
+      throw InputError("engine must be 'cgal' (Mesh_3) or 'thesis' (Rule Set T), got " + shortDump(job["engine"]));
   }
   if (spec.planar_faces) {
     if (spec.engine != Engine::Thesis)
@@ -363,7 +364,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     else if (m == materialAssignmentName(MaterialAssignment::Barycenter))
       spec.material_assignment = MaterialAssignment::Barycenter;
     else
-      throw InputError("material_assignment must be \"circumcenter\" or \"barycenter\", got " + m.dump());
+      throw InputError("material_assignment must be \"circumcenter\" or \"barycenter\", got " + shortDump(m));
     if (spec.engine != Engine::Thesis && spec.material_assignment != MaterialAssignment::Circumcenter)
       throw InputError("material_assignment: the 'cgal' engine assigns materials by circumcentre only: use "
                        "\"circumcenter\" or engine 'thesis'");
@@ -380,9 +381,10 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
 
   if (job.contains("element_order")) {
     const json& o = job["element_order"];
-    if (!o.is_number_integer() || (o.get<int>() != 1 && o.get<int>() != 2))
-      throw InputError("element_order must be 1 (tet4) or 2 (tet10), got " + o.dump());
-    spec.element_order = o.get<int>();
+    // Compared as JSON values: 4294967297 must not pass as 1 through a 32-bit conversion.
+    if (!o.is_number_integer() || (o != 1 && o != 2))
+      throw InputError("element_order must be 1 (tet4) or 2 (tet10), got " + shortDump(o));
+    spec.element_order = o == 1 ? 1 : 2;
   }
   if (job.contains("optimize")) {
     const json& o = job["optimize"];
@@ -390,8 +392,8 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
       spec.perturb = spec.exude = o.get<bool>();
     } else if (o.is_object()) {
       rejectUnknownKeys(o, {"perturb", "exude", "time_limit", "sliver_bound"}, "optimize");
-      spec.perturb = o.value("perturb", true);
-      spec.exude = o.value("exude", true);
+      if (o.contains("perturb")) spec.perturb = jobjson::boolean(o["perturb"], "optimize.perturb");
+      if (o.contains("exude")) spec.exude = jobjson::boolean(o["exude"], "optimize.exude");
       if (o.contains("time_limit")) spec.optimize_time_limit = positiveNumber(o["time_limit"], "optimize.time_limit");
       if (o.contains("sliver_bound")) {
         spec.sliver_bound = positiveNumber(o["sliver_bound"], "optimize.sliver_bound");
@@ -406,14 +408,20 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     const json& l = job["limits"];
     if (!l.is_object()) throw InputError("'limits' must be an object like {\"max_vertices\": 5000000, \"time_limit\": 3600}");
     rejectUnknownKeys(l, {"max_vertices", "time_limit"}, "limits");
-    if (l.contains("max_vertices")) spec.max_vertices = static_cast<int64_t>(positiveNumber(l["max_vertices"], "limits.max_vertices"));
-    if (l.contains("time_limit")) spec.time_limit = positiveNumber(l["time_limit"], "limits.time_limit");
+    if (l.contains("max_vertices"))
+      spec.max_vertices = jobjson::integer(l["max_vertices"], "limits.max_vertices", 1, kMaxVertexLimit,
+                                           "give the largest vertex count to accept (a mesh of 1e10 vertices "
+                                           "would need terabytes of memory)");
+    if (l.contains("time_limit")) {
+      spec.time_limit = positiveNumber(l["time_limit"], "limits.time_limit");
+      if (spec.time_limit > kMaxTimeLimit)
+        throw InputError("limits.time_limit = " + shortDump(l["time_limit"]) + " s is more than a year: give seconds, "
+                         "at most " + std::to_string(int64_t(kMaxTimeLimit)));
+    }
   }
-  if (job.contains("seed")) {
-    if (!job["seed"].is_number_integer() || job["seed"].get<int64_t>() < 0)
-      throw InputError("seed must be a non-negative integer");
-    spec.seed = static_cast<unsigned>(job["seed"].get<int64_t>());
-  }
+  if (job.contains("seed"))
+    spec.seed = static_cast<unsigned>(jobjson::integer(job["seed"], "seed", 0, UINT32_MAX,
+                                                       "the seed is a non-negative 32-bit integer"));
   if (job.contains("checks")) {
     const json& c = job["checks"];
     if (!c.is_string() || (c != "warn" && c != "error"))
@@ -427,14 +435,18 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     rejectUnknownKeys(o, {"files", "report"}, "output");
     if (o.contains("files")) {
       if (!o["files"].is_array()) throw InputError("output.files must be a list of paths (.vtu, .inp)");
-      for (const json& f : o["files"]) {
-        if (!f.is_string()) throw InputError("output.files entries must be paths");
-        spec.output_files.push_back(resolvePath(f.get<std::string>(), base));
+      for (size_t k = 0; k < o["files"].size(); ++k) {
+        const std::string where = "output.files[" + std::to_string(k) + "]";
+        const std::string path = resolvePath(jobjson::string(o["files"][k], where, "give a path (.vtu, .inp)"), base);
+        const std::string problem = meshFileFormatProblem(path);
+        if (!problem.empty()) throw InputError(where + " = '" + path + "': " + problem);
+        checkOutputFolder(path, where);
+        spec.output_files.push_back(path);
       }
     }
     if (o.contains("report")) {
-      if (!o["report"].is_string()) throw InputError("output.report must be a path");
-      spec.report_file = resolvePath(o["report"].get<std::string>(), base);
+      spec.report_file = resolvePath(jobjson::string(o["report"], "output.report", "give a path (report.json)"), base);
+      checkOutputFolder(spec.report_file, "output.report");
     }
   }
   return spec;

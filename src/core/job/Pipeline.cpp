@@ -6,6 +6,7 @@
 #include "domain/HierarchicalOracle.h"
 #include "job/EngineRun.h"
 #include "job/FeatureAssembly.h"
+#include "job/InputChecks.h"
 #include "job/InputLoading.h"
 #include "job/JobReport.h"
 #include "job/MeshSelfCheck.h"
@@ -37,6 +38,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   LoadedInputs inputs = loadInputs(job, control);
   report.warnings = std::move(inputs.warnings);
   const HierarchicalOracle oracle(std::move(inputs.entries));
+  checkCutsLeaveMaterial(oracle);
   const double diagonal = oracle.diagonal();
   if (diagonal > 1e5)
     report.warnings.push_back("the model is over 100 m across (" + std::to_string(diagonal) +

@@ -1,6 +1,9 @@
 #include "job/ResolvedCriteria.h"
 
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -9,6 +12,8 @@
 namespace oraclemesh {
 
 namespace {
+
+constexpr double kSmallestSizeOfDiagonal = 1e-6;
 
 MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallback) {
   MaterialCriteria c = fallback;
@@ -19,6 +24,46 @@ MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallb
   if (spec.facet_angle) c.facet_angle = *spec.facet_angle;
   if (spec.edge_size) c.edge_size = *spec.edge_size;
   return c;
+}
+
+// A count for messages: "1.2e+19", never a wrapped 64-bit integer.
+std::string roughCount(double n) {
+  if (!std::isfinite(n)) return "more than 1e308";
+  char text[32];
+  std::snprintf(text, sizeof text, n < 1e15 ? "%.0f" : "%.2g", n);
+  return text;
+}
+
+// A length far below the model's size would make curve sampling or refinement allocate
+// without bound before any vertex count is checked: refused naming the key it came from.
+void checkSizesAgainstModel(const JobSpec& job, int material, const MaterialCriteria& c, double diagonal) {
+  if (!(diagonal > 0) || !std::isfinite(diagonal)) return;  // the engines refuse an empty model
+  const auto found = job.material_criteria.find(material);
+  const CriteriaSpec none;
+  const CriteriaSpec& own = found == job.material_criteria.end() ? none : found->second;
+  const CriteriaSpec& fallback = job.default_criteria;
+  struct Size {
+    const char* key;
+    double value;
+    bool ownValue, defaultValue;  // where the user gave it, if anywhere
+  };
+  const Size sizes[] = {
+      {"cell_size", c.cell_size, own.cell_size.has_value(), fallback.cell_size.has_value()},
+      {"facet_size", c.facet_size, own.facet_size.has_value(), fallback.facet_size.has_value()},
+      {"facet_distance", c.facet_distance, own.facet_distance.has_value(), fallback.facet_distance.has_value()},
+      {"edge_size", c.edge_size, own.edge_size.has_value(), fallback.edge_size.has_value()}};
+  for (const Size& size : sizes) {
+    // Derived sizes are within 1/20 of given ones: bounded when those are.
+    if (size.value >= kSmallestSizeOfDiagonal * diagonal || !(size.ownValue || size.defaultValue)) continue;
+    const std::string key = size.ownValue ? "criteria.materials." + std::to_string(material) + "." + size.key
+                                          : std::string("criteria.default.") + size.key;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  " = %g is less than a millionth of the model's size (bounding-box diagonal %g): give sizes in model "
+                  "units (FreeCAD works in mm), at least %g",
+                  size.value, diagonal, kSmallestSizeOfDiagonal * diagonal);
+    throw InputError(key + text);
+  }
 }
 
 }  // namespace
@@ -46,6 +91,7 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
   for (int id : materials) {
     auto it = job.material_criteria.find(id);
     table.per_material[id] = it == job.material_criteria.end() ? base : resolve(it->second, base);
+    checkSizesAgainstModel(job, id, table.per_material[id], diagonal);
   }
   return table;
 }
@@ -59,8 +105,8 @@ void checkExpectedSize(const JobSpec& job, const std::vector<OracleEntry>& entri
     const double r = table.of(e.material).cell_size;
     expected += e.source->volume() / (0.66 * r * r * r);
   }
-  if (expected > static_cast<double>(job.max_vertices))
-    throw InputError("the sizes asked for would give about " + std::to_string(static_cast<int64_t>(expected)) +
+  if (!(expected <= static_cast<double>(job.max_vertices)))
+    throw InputError("the sizes asked for would give about " + roughCount(expected) +
                      " vertices, more than limits.max_vertices = " + std::to_string(job.max_vertices) +
                      ": raise cell_size (check the model units: FreeCAD works in mm) or raise limits.max_vertices");
 }

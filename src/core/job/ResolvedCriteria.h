@@ -10,7 +10,8 @@
 namespace oraclemesh {
 
 // Defaults follow the bounding-box diagonal; per-material entries are merged over them.
-// Throws InputError when criteria.materials names a material no input has.
+// Throws InputError when criteria.materials names a material no input has, or when a size is
+// below a millionth of the diagonal (naming the key it came from: wrong units).
 CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 
 // Throws InputError when the material entries' volumes at their cell sizes would give more

@@ -25,7 +25,7 @@ class OutputFile {
   explicit OutputFile(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
     if (!file_)
       throw Error("cannot write the mesh file '" + path + "': " + std::strerror(errno) +
-                  "; check that the folder exists and is writable");
+                  "; check that the folder exists and is writable (output.files)");
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
   }
   OutputFile(const OutputFile&) = delete;
@@ -199,13 +199,18 @@ void writeInp(const std::string& path, const TetMesh& mesh) {
   out.close();
 }
 
+std::string meshFileFormatProblem(const std::string& path) {
+  const std::string ext = lowerCaseExtension(path);
+  if (ext == ".vtu" || ext == ".inp") return "";
+  return (ext.empty() ? "it has no file extension" : "unknown extension '" + ext + "'") +
+         "; supported mesh file extensions are .vtu (VTK, ParaView) and .inp (Abaqus / CalculiX)";
+}
+
 void writeMeshFile(const std::string& path, const TetMesh& mesh) {
   const std::string ext = lowerCaseExtension(path);
   if (ext == ".vtu") return writeVtu(path, mesh);
   if (ext == ".inp") return writeInp(path, mesh);
-  const std::string problem = ext.empty() ? "it has no file extension" : "unknown extension '" + ext + "'";
-  throw InputError("cannot write the mesh file '" + path + "': " + problem +
-                   "; supported mesh file extensions are .vtu (VTK, ParaView) and .inp (Abaqus / CalculiX)");
+  throw InputError("cannot write the mesh file '" + path + "': " + meshFileFormatProblem(path));
 }
 
 }  // namespace oraclemesh

@@ -26,5 +26,7 @@ void writeInp(const std::string& path, const TetMesh& mesh);
 // Writes by file extension (case-insensitive): .vtu or .inp. Any other extension throws
 // oraclemesh::InputError naming the path and the supported extensions.
 void writeMeshFile(const std::string& path, const TetMesh& mesh);
+// Why `path` cannot be written as a mesh file (its extension), or "" when it can.
+std::string meshFileFormatProblem(const std::string& path);
 
 }  // namespace oraclemesh

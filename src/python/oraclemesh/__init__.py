@@ -48,29 +48,52 @@ class Result:
         return "<oraclemesh.Result %d points, %d tets>" % (len(self.points), len(self.tets))
 
 
-def _first_non_finite(value, path):
-    """Key path of the first NaN or infinity in a job (JSON has no such numbers)."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return path or "the job"
-    if isinstance(value, dict):
-        items = ((str(k), v) for k, v in value.items())
-    elif isinstance(value, (list, tuple)):
-        items = (("[%d]" % i, v) for i, v in enumerate(value))
-    else:
-        return None
-    for key, item in items:
-        where = path + key if key.startswith("[") else (path + "." + key if path else key)
-        found = _first_non_finite(item, where)
-        if found:
-            return found
-    return None
+# As the core's limit (src/core/job/JobJson.h): deeper jobs are mistakes, and recursion on
+# them (json.dumps) would end in RecursionError instead of a message.
+_MAX_DEPTH = 64
+
+
+def _check_values(job):
+    """InputError naming the key path of the first NaN or infinity in a job (JSON has no such
+    numbers; numpy arrays included) or of nesting deeper than the core accepts."""
+    pending = [(job, "", 0)]
+    while pending:
+        value, path, depth = pending.pop()
+        where = path or "the job"
+        if depth > _MAX_DEPTH:
+            raise InputError("%s nests lists and objects more than %d levels deep: the job contract needs "
+                             "at most 6" % (where if len(where) < 80 else where[:60] + "...", _MAX_DEPTH))
+        if isinstance(value, float):
+            if not math.isfinite(value):
+                raise InputError("%s is not a finite number (%r): give a finite value in model units (mm)"
+                                 % (where, value))
+        elif isinstance(value, dict):
+            pending.extend((item, path + "." + str(key) if path else str(key), depth + 1)
+                           for key, item in reversed(list(value.items())))
+        elif isinstance(value, (list, tuple)):
+            pending.extend((item, "%s[%d]" % (path, i), depth + 1) for i, item in reversed(list(enumerate(value))))
+        elif hasattr(value, "dtype") and hasattr(value, "shape"):
+            _check_array(value, where)
+
+
+def _check_array(array, where):
+    """A numpy array in a job (surface points, image spacing): finite numbers only."""
+    import numpy
+    if array.dtype.kind not in "fc":
+        return
+    finite = numpy.isfinite(array)
+    if not finite.all():
+        index = tuple(int(i) for i in numpy.argwhere(~finite)[0])
+        raise InputError("%s%s is not a finite number (%r): give finite values in model units (mm)"
+                         % (where, "".join("[%d]" % i for i in index), array[index].item()))
 
 
 def run(job, progress=None, base_directory=None):
     """Run a job (dict, or path to a JSON job file) and return a Result.
 
     progress(phase: str, fraction: float) is called from the meshing thread with the GIL
-    held; returning False cancels (oraclemesh.Cancelled is raised). Relative paths in the
+    held; returning False cancels (oraclemesh.Cancelled is raised); an exception it raises
+    stops the run and is raised again here, as itself. Relative paths in the
     job are taken relative to base_directory (default: the job file's folder, or the
     current directory for a dict). An image input may give its labels as a numpy array:
     {"image": {"labels": labels[z][y][x], "spacing": [sx, sy, sz], "origin": [x, y, z]},
@@ -88,9 +111,7 @@ def run(job, progress=None, base_directory=None):
                 raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
             base = base_directory or os.path.dirname(os.path.abspath(path))
         else:
-            bad = _first_non_finite(job, "")
-            if bad:
-                raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
+            _check_values(job)
             job = with_image_files(job, images)
             try:
                 text = json.dumps(job, allow_nan=False, default=_array_as_list)
@@ -112,9 +133,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
     oraclemesh.worker). Costs a process start and a copy of the result arrays.
     """
     if not isinstance(job, (str, os.PathLike)):
-        bad = _first_non_finite(job, "")
-        if bad:
-            raise InputError("%s is not a finite number: give a positive value in model units (mm)" % bad)
+        _check_values(job)
     with tempfile.TemporaryDirectory(prefix="oraclemesh-") as tmp:
         if isinstance(job, (str, os.PathLike)):
             job_path = os.path.abspath(os.fspath(job))
@@ -148,13 +167,21 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
                         return
             watcher = threading.Thread(target=watch, name="oraclemesh-cancel", daemon=True)
             watcher.start()
-        for line in child.stdout:
-            if not line.startswith("progress ") or progress is None or cancelled:
-                continue
-            _, fraction, phase = line.rstrip("\n").split(" ", 2)
-            if progress(phase, float(fraction)) is False:
-                cancelled = True
-                child.send_signal(signal.SIGKILL)
+        try:
+            for line in child.stdout:
+                if not line.startswith("progress ") or progress is None or cancelled:
+                    continue
+                _, fraction, phase = line.rstrip("\n").split(" ", 2)
+                if progress(phase, float(fraction)) is False:
+                    cancelled = True
+                    child.send_signal(signal.SIGKILL)
+        except BaseException:
+            # The callback raised (or the caller was interrupted): the child must not go on
+            # meshing unobserved, and the exception reaches the caller as itself.
+            child.kill()
+            child.wait()
+            stderr_file.close()
+            raise
         code = child.wait()
         if watcher is not None:
             watcher.join()

@@ -2,7 +2,10 @@
 // all together, with warnings for the open shells left out.
 #include "domain/BrepSolid.h"
 
+#include <Precision.hxx>
 #include <Standard_Failure.hxx>
+
+#include <cstdio>
 
 #include "Error.h"
 #include "domain/brep/ShapeFiles.h"
@@ -30,6 +33,24 @@ auto namingTheFile(const std::string& name, const std::string& what, Action acti
   }
 }
 
+// OpenCASCADE's tolerances are absolute (Precision::Confusion() = 1e-7): a model only a few
+// of them across fails in its mesher with "invalid parameter value", which names neither
+// the model nor the cause (wrong units, usually m for mm).
+void checkModelSize(const TopoDS_Shape& shape, const std::string& what) {
+  const Bbox box = boxOf(shape);
+  if (box.empty()) return;  // no geometry: the solid checks say so
+  const double diagonal = box.diagonal();
+  const double smallest = 1000 * Precision::Confusion();
+  if (diagonal < smallest) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  " is only %g model units across, too small to mesh (OpenCASCADE's tolerance is %g): check the "
+                  "units (FreeCAD works in mm) or scale the model up to at least %g",
+                  diagonal, Precision::Confusion(), smallest);
+    throw InputError(what + text);
+  }
+}
+
 }  // namespace
 
 static TopoDS_Shape readSolidBrepText(const std::string& text, const std::string& name) {
@@ -42,6 +63,7 @@ BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& 
   Loaded loaded;
   SolidPieces pieces;
   try {
+    checkModelSize(shape, what);
     pieces = solidPieces(shape, what);
   } catch (const Standard_Failure& failure) {
     throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +

@@ -1,0 +1,167 @@
+// Issue 18: bad bytes in the files a user gives are refused by the readers with a message
+// naming the file, the defect and the fix, before anything large is allocated and before
+// CGAL sees a coordinate; checks on user polylines come before they are sampled.
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <gp_Pnt.hxx>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "domain/HierarchicalOracle.h"
+#include "domain/LabeledImage.h"
+#include "domain/NrrdReader.h"
+#include "domain/Sphere.h"
+#include "domain/TriangleSurface.h"
+#include "features/UserPolylines.h"
+#include "input_errors.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+using test::inputErrorOf;
+using namespace std::string_literals;
+
+std::string scratch(const std::string& name, const std::string& bytes) {
+  const auto dir = std::filesystem::temp_directory_path() / "oraclemesh_input_validation";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / name).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A binary STL of the unit tetrahedron whose vertex (0, 0, 0) is replaced by `first`.
+std::string tetrahedronStl(float first) {
+  const float p[4][3] = {{first, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string data(80, ' ');
+  const uint32_t count = 4;
+  data.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& tri : t) {
+    const float normal[3] = {0, 0, 0};
+    data.append(reinterpret_cast<const char*>(normal), 12);
+    for (int v : tri) data.append(reinterpret_cast<const char*>(p[v]), 12);
+    data.append(2, '\0');
+  }
+  return data;
+}
+
+TEST(InputValidation, NonFiniteStlVertexIsNamedAsSuch) {
+  // Before: NaN reached CGAL as "encloses no volume", infinity as "intersects itself".
+  for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    const std::string path = scratch("bad_vertex.stl", tetrahedronStl(bad));
+    const std::string message = inputErrorOf([&] { TriangleSurface::fromFile(path, "bone"); });
+    EXPECT_TRUE(contains(message, "input 'bone' (file '" + path + "') has a vertex with a coordinate that is not a "
+                                  "finite number"))
+        << message;
+  }
+  const std::string good = scratch("good.stl", tetrahedronStl(0));
+  EXPECT_GT(TriangleSurface::fromFile(good, "bone")->volume(), 0.16);
+}
+
+TEST(InputValidation, OffCountsBeyondTheFileAreRefusedBeforeReading) {
+  const std::string counts = scratch("counts.off", "OFF\n1000000000 1000000000 0\n0 0 0\n");
+  EXPECT_TRUE(contains(inputErrorOf([&] { TriangleSurface::fromFile(counts, "part"); }),
+                       "declares 1000000000 vertices and 1000000000 faces"));
+  const std::string face = scratch("face.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
+  EXPECT_TRUE(contains(inputErrorOf([&] { TriangleSurface::fromFile(face, "part"); }),
+                       "has a face with 2000000000 corners: only triangles are read"));
+  const std::string binary = scratch("binary.off", std::string("OFF BINARY\n") + std::string(12, '\0'));
+  EXPECT_TRUE(contains(inputErrorOf([&] { TriangleSurface::fromFile(binary, "part"); }), "binary OFF"));
+  // Found by tests/fuzz: CGAL's scanner read colours past the end of a COFF vertex line.
+  const std::string colours = scratch("colours.off", "COFF\n3 1 0\n0\0 0 0 255\n1 0 0\n0 1 0\n3 0 1 2\n"s);
+  EXPECT_TRUE(contains(inputErrorOf([&] { TriangleSurface::fromFile(colours, "part"); }),
+                       "has no x y z numbers at vertex 1 of 3 (line 3)"));
+  const std::string good = scratch("good.off", "COFF\n# comment\n4 4 6\n0 0 0 1 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                               "3 0 2 1\n3 0 1 3\n3 0 3 2 255 0 0\n3 1 2 3\n");
+  EXPECT_GT(TriangleSurface::fromFile(good, "part")->volume(), 0.16);
+}
+
+TEST(InputValidation, NrrdHeaderOfMissingDataAllocatesNothing) {
+  // 1250^3 voxels declared over two bytes: refused as truncated, not after gigabytes.
+  const std::string header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1250 1250 1250\n";
+  for (const std::string& data : {std::string("encoding: raw\n\n\x01\x02"), std::string("encoding: ascii\n\n1 2\n")}) {
+    const std::string path = scratch("huge.nrrd", header + data);
+    const auto start = std::chrono::steady_clock::now();
+    const std::string message = inputErrorOf([&] { readNrrdLabels(path, "scan"); });
+    EXPECT_TRUE(contains(message, "input 'scan'") && (contains(message, "truncated") || contains(message, "too few")))
+        << message;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
+  }
+  // gzip of 1000 zero bytes: inflated only as far as the data goes.
+  std::string zeros(1000, '\0'), packed(2000, '\0');
+  uLongf packedSize = packed.size();
+  ASSERT_EQ(compress(reinterpret_cast<Bytef*>(packed.data()), &packedSize, reinterpret_cast<const Bytef*>(zeros.data()),
+                     zeros.size()),
+            Z_OK);
+  packed.resize(packedSize);
+  const std::string gz = scratch("huge_gz.nrrd", header + "encoding: gzip\n\n" + packed);
+  EXPECT_TRUE(contains(inputErrorOf([&] { readNrrdLabels(gz, "scan"); }), "the data is truncated: 1000 bytes"));
+}
+
+TEST(InputValidation, NrrdNeedleVoxelsAreRefused) {
+  // Spacings 1e-6 / 1 / 1e6 used to hang in the crossings' bisection (LabeledImage::margin).
+  const std::string path = scratch("needles.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 3 3 3\n"
+                                                   "spacings: 1e-6 1 1e6\nencoding: raw\n\n" +
+                                                       std::string(13, '\0') + "\x01" + std::string(13, '\0'));
+  const std::string message = inputErrorOf([&] { readNrrdLabels(path, "scan"); });
+  EXPECT_TRUE(contains(message, "times longer along one axis than along another")) << message;
+}
+
+TEST(InputValidation, ImageCrossingsOfAFarSegmentEnd) {
+  // The bisection stops where doubles cannot halve the interval any more: from 1e12 away
+  // the tolerance (1e-9 of a voxel) is below the resolution of t.
+  std::vector<int32_t> labels(27, 0);
+  labels[13] = 1;
+  const auto image = std::make_shared<const LabeledImage>(std::array<int64_t, 3>{3, 3, 3}, Point3{1, 1, 1},
+                                                          Point3{0, 0, 0}, labels, "a test image");
+  const ImageLabelRegion region(image, 1, "voxel");
+  const auto crossings = region.crossings({-1e12, 1, 1}, {1, 1, 1});
+  ASSERT_EQ(crossings.size(), 1u);
+  EXPECT_NEAR(crossings[0].point[0], 0.5, 1e-3);
+  EXPECT_TRUE(crossings[0].entering);
+}
+
+HierarchicalOracle ball() {
+  return HierarchicalOracle({{std::make_shared<Sphere>(Point3{0, 0, 0}, 1.0, "ball"), Role::Material, 1}});
+}
+
+TEST(InputValidation, PolylineFarOutsideTheModelIsRefusedBeforeSampling) {
+  // A polyline to y = 2^31 on a unit ball used to be cut into billions of pieces (bad_alloc).
+  const std::string message = inputErrorOf([] {
+    userPolylineFeatures({{{0, 0, 0}, {0, 2147483648.0, 0}}}, ball(), 0.1);
+  });
+  EXPECT_TRUE(contains(message, "features.polylines[0] leaves the meshed domain: point 1 (0, 2.14748e+09, 0) lies outside the "
+                                "bounding box"))
+      << message;
+}
+
+TEST(InputValidation, PolylineWithAnotherEdgesBrepIsRefused) {
+  // Used to hang the thesis engine until the time limit: its nodes were pulled onto an edge
+  // 0.5 away from the points.
+  const auto edge = UserCurve::fromBrep(
+      test::brepText(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0.5), gp_Pnt(0.5, 0, 0.5)).Edge()), "features.polylines[0].brep");
+  const std::string message = inputErrorOf([&] {
+    userPolylineFeatures({{{0, 0, 0}, {0, 0.5, 0}}}, ball(), 0.1, {edge});
+  });
+  EXPECT_TRUE(contains(message, "features.polylines[0] point 0 (0, 0, 0) is 0.5") &&
+              contains(message, "the brep must be the edge the points were sampled from"))
+      << message;
+  // Its own edge passes.
+  const auto own = UserCurve::fromBrep(
+      test::brepText(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(0, 0.5, 0)).Edge()), "features.polylines[0].brep");
+  EXPECT_FALSE(userPolylineFeatures({{{0, 0, 0}, {0, 0.5, 0}}}, ball(), 0.1, {own}).polylines.empty());
+}
+
+}  // namespace
+}  // namespace oraclemesh
