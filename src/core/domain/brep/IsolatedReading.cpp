@@ -223,8 +223,10 @@ HelperOutput readInHelper(const std::string& kind, const std::string& input, con
   const std::string message = readWholeFile(folder.path() / "error.txt");
   if (WIFEXITED(status) && WEXITSTATUS(status) == kExitInputError && !message.empty()) throw InputError(message);
   if (WIFEXITED(status) && WEXITSTATUS(status) == kExitOtherError && !message.empty())
-    throw InputError("OpenCASCADE failed reading " + what + " (" + message +
-                     "); check it with Part > Check geometry or re-export it");
+    throw InputError("OpenCASCADE failed on " + what + ": " + message +
+                     (message.find("Part > Check geometry") == std::string::npos
+                          ? "; check it with Part > Check geometry or re-export it"
+                          : ""));
   std::string how = WIFSIGNALED(status) ? std::string("signal ") + std::to_string(WTERMSIG(status)) + ", " +
                                               strsignal(WTERMSIG(status))
                                         : "exit code " + std::to_string(WEXITSTATUS(status));
