@@ -12,6 +12,8 @@
 #include <algorithm>
 
 #include "Error.h"
+#include "domain/CoordinateRange.h"
+#include "domain/brep/FiniteGeometry.h"
 #include "domain/brep/SolidChecks.h"
 
 namespace oraclemesh {
@@ -20,11 +22,13 @@ BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name) : impl_(std::m
   impl_->name = std::move(name);
   const std::string what = "input '" + impl_->name + "'";
   try {
+    requireFiniteGeometry(shape, what);
     impl_->shape = validatedSolids(shape, what);
     impl_->box = boxOf(impl_->shape);
     impl_->diagonal = impl_->box.diagonal();
     if (!(impl_->diagonal > 0))
       throw InputError(what + " has an empty bounding box: select a solid that encloses a volume");
+    requireCoordinateRange(impl_->box, what);
     impl_->classifyTolerance = 1e-9 * impl_->diagonal;
     impl_->volume = signedVolume(impl_->shape);
     impl_->index();

@@ -14,6 +14,8 @@
 
 namespace oraclemesh {
 
+class RunControl;
+
 // The shape in BREP text (FreeCAD's Shape.exportBrepToString()). An unreadable text is an
 // InputError "<what> cannot be read by OpenCASCADE (<reason>)<fix>".
 TopoDS_Shape readBrepText(const std::string& text, const std::string& what, const std::string& fix);
@@ -37,6 +39,14 @@ class BrepSolid : public Source, public BrepTopology {
   static Loaded loadFile(const std::string& path, const std::string& name, Grouping grouping);
   // BREP text as written by OpenCASCADE's BRepTools::Write (FreeCAD: Shape.exportBrepToString()).
   static Loaded loadBrepText(const std::string& text, const std::string& name, Grouping grouping);
+  // The same in a helper process (domain/brep/IsolatedReading.h): OpenCASCADE reads and
+  // checks the file there, so its crash or hang on a damaged file becomes an InputError naming
+  // the file, and `control`'s time limit and cancel hold while it reads (progress is reported
+  // as phase "load" at `progress`). The job pipeline loads every B-rep this way.
+  static Loaded loadFileIsolated(const std::string& path, const std::string& name, Grouping grouping,
+                                 const RunControl& control, double progress);
+  static Loaded loadBrepTextIsolated(const std::string& text, const std::string& name, Grouping grouping,
+                                     const RunControl& control, double progress);
   // `path` only names the file in messages.
   static Loaded load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
                      const std::string& path = "");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "Error.h"
+#include "domain/CoordinateRange.h"
 
 namespace oraclemesh {
 
@@ -13,6 +14,8 @@ HierarchicalOracle::HierarchicalOracle(std::vector<OracleEntry> entries) : entri
   bool anyMaterial = false;
   for (const OracleEntry& e : entries_) {
     if (!e.source) throw InputError("an input has no geometry: give it a file, BREP text or a sphere");
+    // Every kind of input, before either engine sees points that rounding has merged.
+    requireCoordinateRange(e.source->bbox(), "input '" + e.source->name() + "'");
     if (e.role == Role::Material) {
       if (e.material <= 0)
         throw InputError("input '" + e.source->name() + "' has material id " + std::to_string(e.material) +

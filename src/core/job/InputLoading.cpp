@@ -25,7 +25,7 @@ struct LoadedInput {
   std::vector<std::string> warnings;
 };
 
-LoadedInput loadInput(const InputSpec& in) {
+LoadedInput loadInput(const InputSpec& in, const RunControl& control, double progress) {
   LoadedInput loaded;
   auto add = [&](SourcePtr source, int material, const std::string& kind) {
     loaded.entries.push_back({std::move(source), in.role, material});
@@ -51,8 +51,11 @@ LoadedInput loadInput(const InputSpec& in) {
     add(TriangleSurface::fromFile(in.file, in.name), in.material, "triangle surface");
   } else {
     const auto grouping = in.solids_together ? BrepSolid::Grouping::Together : BrepSolid::Grouping::Separate;
-    BrepSolid::Loaded brep = in.kind == InputSpec::Kind::File ? BrepSolid::loadFile(in.file, in.name, grouping)
-                                                               : BrepSolid::loadBrepText(in.brep_text, in.name, grouping);
+    // In a helper process: OpenCASCADE may crash or hang on a damaged file.
+    BrepSolid::Loaded brep =
+        in.kind == InputSpec::Kind::File
+            ? BrepSolid::loadFileIsolated(in.file, in.name, grouping, control, progress)
+            : BrepSolid::loadBrepTextIsolated(in.brep_text, in.name, grouping, control, progress);
     if (!in.solid_materials.empty() && in.solid_materials.size() != brep.solids.size())
       throw InputError("input '" + in.name + "'" + (in.file.empty() ? "" : " (file '" + in.file + "')") + " has " +
                        std::to_string(brep.solids.size()) + " solid" + (brep.solids.size() == 1 ? "" : "s") +
@@ -75,7 +78,7 @@ LoadedInputs loadInputs(const JobSpec& job, const RunControl& control) {
   LoadedInputs all;
   for (size_t i = 0; i < job.inputs.size(); ++i) {
     const InputSpec& in = job.inputs[i];
-    LoadedInput loaded = loadInput(in);
+    LoadedInput loaded = loadInput(in, control, double(i) / job.inputs.size());
     for (size_t k = 0; k < loaded.entries.size(); ++k) {
       all.entries.push_back(std::move(loaded.entries[k]));
       all.kinds.push_back(loaded.kinds[k]);

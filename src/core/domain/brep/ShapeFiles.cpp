@@ -6,10 +6,15 @@
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
+#include <StepData_StepModel.hxx>
+#include <StepGeom_CartesianPoint.hxx>
+#include <StepGeom_Direction.hxx>
+#include <TColStd_HArray1OfReal.hxx>
 #include <Standard_Failure.hxx>
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -28,6 +33,32 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+bool finiteNumbers(const Handle(TColStd_HArray1OfReal)& values) {
+  if (values.IsNull()) return true;
+  for (int i = values->Lower(); i <= values->Upper(); ++i)
+    if (!std::isfinite(values->Value(i))) return false;
+  return true;
+}
+
+// The points and directions of a STEP file are checked before the transfer evaluates them: on
+// a NaN or infinite coordinate OpenCASCADE's shape healing loops in the transfer.
+void requireFiniteStepPoints(const STEPControl_Reader& reader, const std::string& what) {
+  const Handle(StepData_StepModel) model = reader.StepModel();
+  if (model.IsNull()) return;
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    const Handle(Standard_Transient) entity = model->Value(i);
+    bool finite = true;
+    // Coordinates() would copy three values whatever NbCoordinates() is (and throw for 2D points).
+    if (auto point = Handle(StepGeom_CartesianPoint)::DownCast(entity)) {
+      for (int k = 1; k <= point->NbCoordinates(); ++k) finite = finite && std::isfinite(point->CoordinatesValue(k));
+    } else if (auto direction = Handle(StepGeom_Direction)::DownCast(entity))
+      finite = finiteNumbers(direction->DirectionRatios());
+    if (!finite)
+      throw InputError(what + " has a coordinate that is not a finite number (NaN or infinity) in entity #" +
+                       std::to_string(model->IdentLabel(entity)) + ": the file is damaged; export it again from the CAD tool");
+  }
+}
+
 }  // namespace
 
 TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
@@ -43,6 +74,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
       STEPControl_Reader reader;
       if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
         throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+      requireFiniteStepPoints(reader, what);
       if (reader.TransferRoots() == 0)
         throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
       shape = reader.OneShape();

@@ -25,6 +25,7 @@
 #include <sstream>
 
 #include "Error.h"
+#include "domain/brep/FiniteGeometry.h"
 
 namespace oraclemesh {
 
@@ -133,6 +134,7 @@ double signedVolume(const TopoDS_Shape& solid) {
 SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
   if (input.IsNull())
     throw InputError(what + " holds no geometry: select a solid, or a closed shell");
+  requireFiniteGeometry(input, what);  // sewing and the box below evaluate the geometry
   const double sewTolerance = std::max(1e-6 * boxOf(input).diagonal(), 1e-7);
 
   std::vector<TopoDS_Shape> items;

@@ -16,7 +16,10 @@
 #include <TopoDS_Vertex.hxx>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+
+#include "Error.h"
 
 namespace oraclemesh {
 
@@ -54,6 +57,11 @@ void BrepSolid::Impl::buildProxy() {
     std::vector<int> ids(tri->NbNodes() + 1);
     for (int n = 1; n <= tri->NbNodes(); ++n) {
       nodes[n] = tri->Node(n).Transformed(trsf);
+      // Finite geometry can still evaluate to NaN or overflow; CGAL must not see such points.
+      if (!std::isfinite(nodes[n].X()) || !std::isfinite(nodes[n].Y()) || !std::isfinite(nodes[n].Z()))
+        throw InputError("input '" + name + "': OpenCASCADE's tessellation of face " + std::to_string(f + 1) +
+                         " has a point that is not a finite number; check the solid with Part > Check geometry "
+                         "and repair or re-export it");
       local[n] = proxyMesh.add_vertex(KPoint(nodes[n].X(), nodes[n].Y(), nodes[n].Z()));
       auto it = nodeIds.emplace(std::array<double, 3>{nodes[n].X(), nodes[n].Y(), nodes[n].Z()},
                                 static_cast<int>(nodeIds.size())).first;

@@ -1,0 +1,151 @@
+"""Issue 18, containment: damaged STEP and BREP files (OpenCASCADE segfaults or loops on them),
+non-finite geometry and models far from the origin end, through the CLI and oraclemesh.run, in
+an InputError naming the input within the job's time limit (exit code 2, never a signal), and
+the interpreter goes on meshing afterwards.
+
+tests/data/bad/cad/ holds the regression inputs: B-rep files (each read by a job made here, with
+a short time limit) and jobs (*.json, run as they are). EXPECTED says what each message must name.
+"""
+import glob
+import json
+import os
+import subprocess
+import threading
+import time
+
+import pytest
+
+import oraclemesh
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BAD = os.path.join(HERE, "..", "data", "bad", "cad")
+BUILD = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(HERE, "..", "..", "build"))
+CLI = os.path.join(BUILD, "oraclemesh")
+TIME_LIMIT = 4  # seconds: the hangs below end at it
+SLACK = 15      # process starts, the mesher's own checkpoint, a loaded machine
+
+CRASHED = "OpenCASCADE crashed reading"
+HUNG = "OpenCASCADE did not finish reading"
+EXPECTED = {
+    # random byte changes of screw.step: segfaults in the STEP reader after "Unresolved Reference"
+    "step_reader_crash.step": [CRASHED, "step_reader_crash.step", "Part > Check geometry"],
+    # a truncated BREP: BRep_CurveOnSurface::Update loops while reading
+    "brep_reader_loop.brep": [HUNG, "brep_reader_loop.brep"],
+    # a mutated BREP: BRepMesh_Delaun loops while tessellating
+    "brep_tessellation_hang.brep": [HUNG, "brep_tessellation_hang.brep"],
+    # NaN in a vertex and in a surface: used to reach GMP through CGAL (SIGFPE)
+    "nan_vertex.brep": ["non-finite number", "nan_vertex.brep", "vertex 1"],
+    "nan_surface.brep": ["non-finite number", "nan_surface.brep", "face 1"],
+    # NaN and 1.E999 in a CARTESIAN_POINT: the transfer's shape healing used to loop on them
+    "nan_point.step": ["not a finite number", "nan_point.step", "entity #24"],
+    "inf_point.step": ["not a finite number", "inf_point.step", "entity #24"],
+    # a box at x = 1e20
+    "far_box.brep": ["from the origin", "far_box.brep", "move the model near the origin"],
+    # a sphere of radius 5 at x = 1e20, both engines: used to segfault in insertInitialPoints
+    "far_sphere_thesis.json": ["input 'ball' lies 1e+20 model units from the origin"],
+    "far_sphere_cgal.json": ["input 'ball' lies 1e+20 model units from the origin"],
+}
+BAD_INPUTS = sorted(os.path.basename(p) for p in glob.glob(os.path.join(BAD, "*")))
+
+
+def small_ball():
+    return {"inputs": [{"name": "ball", "sphere": {"center": [0, 0, 0], "radius": 1}, "material": 1}],
+            "criteria": {"default": {"cell_size": 0.5, "facet_size": 0.5, "facet_distance": 0.05}},
+            "element_order": 1}
+
+
+def job_file(name, folder):
+    """The job that reads tests/data/bad/cad/<name>: the file itself when it is a job."""
+    if name.endswith(".json"):
+        return os.path.join(BAD, name)
+    job = {"inputs": [{"name": "part", "file": os.path.join(os.path.abspath(BAD), name), "material": 1}],
+           "element_order": 1, "limits": {"time_limit": TIME_LIMIT}}
+    path = os.path.join(folder, name + ".json")
+    with open(path, "w") as f:
+        json.dump(job, f)
+    return path
+
+
+def test_every_bad_input_has_its_expectation():
+    assert set(BAD_INPUTS) == set(EXPECTED)
+
+
+@pytest.mark.parametrize("name", BAD_INPUTS)
+def test_cli_refuses_bad_cad_input_with_exit_code_2_in_time(name, tmp_path):
+    start = time.monotonic()
+    run = subprocess.run([CLI, job_file(name, str(tmp_path))], capture_output=True, text=True,
+                         timeout=TIME_LIMIT + 60)
+    seconds = time.monotonic() - start
+    assert run.returncode == 2, (run.returncode, run.stderr[-2000:])  # a signal is negative
+    assert seconds < TIME_LIMIT + SLACK, seconds
+    assert "internal error" not in run.stderr
+    for part in EXPECTED[name]:
+        assert part in run.stderr, (part, run.stderr[-2000:])
+
+
+@pytest.mark.parametrize("name", BAD_INPUTS)
+def test_run_refuses_bad_cad_input_and_still_works_afterwards(name, tmp_path):
+    start = time.monotonic()
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(job_file(name, str(tmp_path)))
+    assert time.monotonic() - start < TIME_LIMIT + SLACK
+    for part in EXPECTED[name]:
+        assert part in str(err.value), (part, str(err.value))
+    assert len(oraclemesh.run(small_ball()).tets) > 0
+
+
+def test_progress_callback_cancels_while_a_file_is_read(tmp_path):
+    job = json.load(open(job_file("brep_reader_loop.brep", str(tmp_path))))
+    job["limits"]["time_limit"] = 600
+    calls = []
+
+    def progress(phase, fraction):
+        calls.append(phase)
+        return len(calls) < 3  # the reader loops: only the wait for it reports
+
+    start = time.monotonic()
+    with pytest.raises(oraclemesh.Cancelled):
+        oraclemesh.run(job, progress=progress)
+    assert time.monotonic() - start < 10
+    assert calls == ["load"] * 3
+    assert len(oraclemesh.run(small_ball()).tets) > 0
+
+
+def test_reading_in_threads_at_once():
+    """The helper is spawned, not forked: several Python threads may read at the same time."""
+    part = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", os.path.join(HERE, "..", "..", "..", "shared",
+                                                                           "data", "cad")), "screw.step")
+    job = {"inputs": [{"name": "screw", "file": part, "material": 1}], "element_order": 1,
+           "criteria": {"default": {"cell_size": 3, "facet_size": 3, "facet_distance": 0.5}}}
+    results, errors = [], []
+
+    def mesh():
+        try:
+            results.append(len(oraclemesh.run(job).tets))
+        except Exception as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    threads = [threading.Thread(target=mesh) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    assert len(results) == 2 and results[0] == results[1] > 0
+
+
+def test_installed_cli_finds_its_helper(tmp_path):
+    """cmake --install puts the helper in libexec/oraclemesh, where the installed CLI looks."""
+    prefix = tmp_path / "prefix"
+    subprocess.run(["cmake", "--install", BUILD, "--prefix", str(prefix)],
+                   check=True, capture_output=True)
+    assert (prefix / "libexec" / "oraclemesh" / "oraclemesh-shape-reader").is_file()
+    job = tmp_path / "job.json"
+    job.write_text(json.dumps({"inputs": [{"name": "bad", "file": os.path.join(os.path.abspath(BAD), "nan_vertex.brep"),
+                                           "material": 1}]}))
+    env = dict(os.environ)
+    env.pop("ORACLEMESH_SHAPE_READER", None)
+    run = subprocess.run([str(prefix / "bin" / "oraclemesh"), str(job)], capture_output=True, text=True, env=env,
+                         timeout=60)
+    # The helper read the file: its finite check, not "cannot find its helper", is the answer.
+    assert run.returncode == 2 and "non-finite number" in run.stderr, run.stderr[-2000:]
