@@ -97,18 +97,30 @@ TEST(SelfCheck, OverlapWithAHigherInputIsSubtracted) {
   EXPECT_LT(std::abs(lower.at("deviation").get<double>()), 0.01);
 }
 
+// Two unit Kuhn cubes of material 1, the second moved by `shift` along x; with shift 1 they
+// share the face x = 1 (its corners merged), with shift 2 they are apart.
+TetMesh twoCubes(double shift) {
+  TetMesh mesh = test::kuhnCube();
+  const TetMesh next = test::kuhnCube();
+  for (const Point3& p : next.points) mesh.points.push_back({p[0] + shift, p[1], p[2]});
+  const bool touching = shift == 1.0;
+  for (auto t : next.tets) {
+    // Corner i of the second cube with x bit 0 lies on corner i + 1 of the first when touching.
+    for (auto& v : t) v = touching && v % 2 == 0 ? v + 1 : v + 8;
+    mesh.tets.push_back(t);
+  }
+  mesh.tet_materials.insert(mesh.tet_materials.end(), next.tet_materials.begin(), next.tet_materials.end());
+  mesh.vertex_dimension.assign(mesh.points.size(), 2);
+  mesh.vertex_curve.assign(mesh.points.size(), -1);
+  return mesh;
+}
+
 // A box meshed as two separate cubes: the part fell apart (and has the wrong volume).
 TEST(SelfCheck, PartInTwoPiecesIsReported) {
   const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(3, 1, 1)).Shape();
   const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(box, "bar"), Role::Material, 1}});
-  TetMesh mesh = test::kuhnCube();
-  const TetMesh far = test::kuhnCube();
-  for (const Point3& p : far.points) mesh.points.push_back({p[0] + 2, p[1], p[2]});
-  for (const auto& t : far.tets) mesh.tets.push_back({t[0] + 8, t[1] + 8, t[2] + 8, t[3] + 8});
-  mesh.tet_materials.insert(mesh.tet_materials.end(), far.tet_materials.begin(), far.tet_materials.end());
-  mesh.vertex_dimension.assign(mesh.points.size(), 2);
-  mesh.vertex_curve.assign(mesh.points.size(), -1);
-  const MeshSelfCheck check = checkMeshAgainstInputs(mesh, oracle, measureQuality(mesh).volume_per_material);
+  const TetMesh apart = twoCubes(2.0);
+  const MeshSelfCheck check = checkMeshAgainstInputs(apart, oracle, measureQuality(apart).volume_per_material);
   const MaterialVolumeCheck& bar = check.materials.at(1);
   EXPECT_EQ(bar.components, 2);
   EXPECT_EQ(bar.max_components, 1);
@@ -116,19 +128,8 @@ TEST(SelfCheck, PartInTwoPiecesIsReported) {
   ASSERT_EQ(check.problems.size(), 2u);
   EXPECT_NE(check.problems[0].find("less volume"), std::string::npos) << check.problems[0];
   EXPECT_NE(check.problems[1].find("2 separate pieces"), std::string::npos) << check.problems[1];
-  // Two cubes side by side, sharing the face x = 1: one piece.
-  TetMesh joined = test::kuhnCube();
-  const TetMesh next = test::kuhnCube();
-  for (const Point3& p : next.points) joined.points.push_back({p[0] + 1, p[1], p[2]});
-  for (const auto& t : next.tets) joined.tets.push_back({t[0] + 8, t[1] + 8, t[2] + 8, t[3] + 8});
-  joined.tet_materials.insert(joined.tet_materials.end(), next.tet_materials.begin(), next.tet_materials.end());
-  joined.vertex_dimension.assign(joined.points.size(), 2);
-  joined.vertex_curve.assign(joined.points.size(), -1);
-  // Merge the coincident points of the shared face x = 1 so the cubes share triangles.
-  for (auto& t : joined.tets)
-    for (auto& v : t)
-      if (v >= 8 && (v - 8) % 2 == 0) v = (v - 8) + 1;
-  EXPECT_EQ(checkMeshAgainstInputs(joined, oracle, measureQuality(joined).volume_per_material).materials.at(1).components, 1);
+  const TetMesh touching = twoCubes(1.0);
+  EXPECT_EQ(checkMeshAgainstInputs(touching, oracle, measureQuality(touching).volume_per_material).materials.at(1).components, 1);
 }
 
 }  // namespace
