@@ -1,13 +1,16 @@
 // `oraclemesh JOB.json`: runs a job file, progress on stderr, a one-screen summary on stdout.
 // `oraclemesh batch ...`: many jobs on a Dask cluster (BatchCommand.h).
-// Exit codes: 0 done, 2 bad job or input, 3 limit reached or cancelled, 1 anything else.
+// Exit codes: 0 done, 2 bad job or input, 3 limit reached (time, vertices, memory) or cancelled,
+// 1 anything else.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <new>
 #include <sstream>
+#include <thread>
 
 #include "BatchCommand.h"
+#include "HardDeadline.h"
 #include "Error.h"
 #include "job/Pipeline.h"
 
@@ -56,10 +59,18 @@ int main(int argc, char** argv) {
     text << in.rdbuf();
     const std::string base = std::filesystem::absolute(jobPath).parent_path().string();
     const oraclemesh::JobSpec job = oraclemesh::JobSpec::fromJsonText(text.str(), base);
+    oraclemesh::cli::HardDeadline deadline(jobPath, job.time_limit);
+    // Test hook: ORACLEMESH_CLI_STALL=<phase> blocks the meshing thread when that phase starts,
+    // as a call stuck inside OpenCASCADE would, so that tests can see the deadline end it.
+    const char* stall = std::getenv("ORACLEMESH_CLI_STALL");
     std::string lastPhase;
     oraclemesh::RunControl control(
         [&](const std::string& phase, double fraction) {
-          if (phase != lastPhase) std::cerr << "\n";
+          if (phase != lastPhase) {
+            std::cerr << "\n";
+            deadline.enterPhase(phase);
+            if (stall && phase == stall) std::this_thread::sleep_for(std::chrono::hours(24));
+          }
           lastPhase = phase;
           std::cerr << "\r[oraclemesh] " << phase << " " << static_cast<int>(100 * fraction) << "%" << std::flush;
         },

@@ -1,0 +1,65 @@
+#pragma once
+// The CLI's last line of defence for limits.time_limit. The core checks the limit between its
+// steps, but one call into OpenCASCADE on a damaged shape (sampling an edge, classifying a
+// point) can loop for ever without reaching a checkpoint. A CLI process can always stop, so
+// a watchdog ends it a grace period after the limit with exit code 3 and a message naming the
+// job and the phase it was in. (oraclemesh.run cannot do that to its interpreter;
+// run_isolated and the batch workers kill their child instead.)
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <iostream>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace oraclemesh::cli {
+
+class HardDeadline {
+ public:
+  // Grace: a tenth of the limit, at least 2 s and at most 30 s, for the core's own checkpoint
+  // to stop it first and write its partial mesh.
+  HardDeadline(std::string jobPath, double timeLimitSeconds)
+      : jobPath_(std::move(jobPath)), limit_(timeLimitSeconds), grace_(std::min(30.0, std::max(2.0, 0.1 * limit_))) {
+    watchdog_ = std::thread([this] { watch(); });
+  }
+  ~HardDeadline() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      finished_ = true;
+    }
+    wake_.notify_all();
+    watchdog_.join();
+  }
+  HardDeadline(const HardDeadline&) = delete;
+  HardDeadline& operator=(const HardDeadline&) = delete;
+
+  void enterPhase(const std::string& phase) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    phase_ = phase;
+  }
+
+ private:
+  void watch() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_ + grace_);
+    if (wake_.wait_until(lock, deadline, [this] { return finished_; })) return;
+    std::cerr << "\noraclemesh: stopped: the job '" << jobPath_ << "' did not end within limits.time_limit = " << limit_
+              << " s (and " << grace_ << " s of grace) and was stuck in phase '" << phase_
+              << "': an input may be damaged (check it with Part > Check geometry or re-export it), or the sizes "
+                 "are too fine for the time limit (coarsen them or raise limits.time_limit)\n"
+              << std::flush;
+    std::_Exit(3);  // the stuck thread holds locks of its own: no destructors, no atexit handlers
+  }
+
+  std::string jobPath_;
+  double limit_, grace_;
+  std::string phase_ = "load";
+  bool finished_ = false;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::thread watchdog_;
+};
+
+}  // namespace oraclemesh::cli

@@ -1,0 +1,47 @@
+"""Issue 18: the CLI ends within limits.time_limit even when the meshing thread is stuck where
+the core cannot check the limit (a call looping inside OpenCASCADE on a damaged shape): a
+watchdog ends the process a grace period after the limit (2 s for limits up to 20 s) with exit
+code 3 and a message naming the job and the phase. The stall is the CLI's test hook
+ORACLEMESH_CLI_STALL=<phase>, which blocks the meshing thread as such a call would.
+"""
+import json
+import os
+import subprocess
+import time
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BUILD = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(HERE, "..", "..", "build"))
+CLI = os.path.join(BUILD, "oraclemesh")
+TIME_LIMIT = 2
+GRACE = 2
+SLACK = 10  # process start and a loaded machine
+
+
+def ball_job(folder):
+    path = os.path.join(folder, "ball.json")
+    with open(path, "w") as f:
+        json.dump({"inputs": [{"name": "ball", "sphere": {"center": [0, 0, 0], "radius": 1}, "material": 1}],
+                   "element_order": 1, "limits": {"time_limit": TIME_LIMIT}}, f)
+    return path
+
+
+@pytest.mark.parametrize("phase", ["load", "refine"])
+def test_stuck_job_ends_after_its_time_limit_with_exit_code_3(phase, tmp_path):
+    job = ball_job(str(tmp_path))
+    start = time.monotonic()
+    run = subprocess.run([CLI, job], capture_output=True, text=True, timeout=60,
+                         env=dict(os.environ, ORACLEMESH_CLI_STALL=phase))
+    seconds = time.monotonic() - start
+    assert run.returncode == 3, (run.returncode, run.stderr[-1000:])
+    assert TIME_LIMIT + GRACE <= seconds < TIME_LIMIT + GRACE + SLACK, seconds
+    assert "the job '%s' did not end within limits.time_limit = 2 s" % job in run.stderr, run.stderr[-1000:]
+    assert "stuck in phase '%s'" % phase in run.stderr
+    assert "Part > Check geometry" in run.stderr
+
+
+def test_job_that_ends_in_time_is_not_stopped(tmp_path):
+    run = subprocess.run([CLI, ball_job(str(tmp_path))], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr[-1000:]
+    assert "did not end within" not in run.stderr
