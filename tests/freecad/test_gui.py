@@ -151,6 +151,13 @@ def test_double_click_histogram_export(gui):
     h = gui["histogram"]
     assert h["png"] > 5000 and h["rows"] == 50 and h["highlighted"] == 10
     assert abs(h["worst"] - h["report_min"]) < 1e-6
+    # The title counts what a linear axis hid; selecting the worst element zooms the view to it.
+    assert h["under_one_degree"] == h["angles_under_one"]
+    zoom = h["zoom"]
+    assert zoom["in_front"] and zoom["off_axis"] < 1e-4 * h["model_diagonal"]
+    assert zoom["size"] < 0.5 * h["model_diagonal"]
+    if zoom["ortho_height"] is not None:
+        assert abs(zoom["ortho_height"] - zoom["size"]) < 1e-6 * zoom["size"]
     meshio = require_module("meshio", "python3-meshio")
     n = gui["final"]["volumes"]
     assert sorted(gui["export"]) == [".inp", ".msh", ".vtu"]

@@ -38,16 +38,22 @@ def element_quality(obj):
     return element_ids, min_dihedral_angles(points, tets), groups
 
 
+# A bin of its own under 1 degree, then 5-degree bins: the few elements a solver may reject
+# must not vanish next to the thousands of good ones, hence also the logarithmic count axis.
+HISTOGRAM_BINS = [0.0, 1.0] + list(range(5, 91, 5))
+
+
 def histogram_png(angles, path, title):
-    """Write the histogram (10-degree bins, 0..90) to a PNG."""
+    """Write the histogram (HISTOGRAM_BINS, tetrahedra on a log scale) to a PNG."""
     import matplotlib
     matplotlib.use("Agg")  # drawn off-screen: no second Qt binding inside FreeCAD
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(5.5, 3.2), dpi=100)
-    ax.hist(angles, bins=np.arange(0, 91, 5), color="#216ee3", edgecolor="#10376f")
+    ax.hist(angles, bins=HISTOGRAM_BINS, color="#216ee3", edgecolor="#10376f")
+    ax.set_yscale("log")
     ax.set_xlabel("smallest dihedral angle per tetrahedron (degrees)")
-    ax.set_ylabel("tetrahedra")
+    ax.set_ylabel("tetrahedra (log scale)")
     ax.set_title(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(path)
@@ -67,18 +73,20 @@ class HistogramDialog:
         from PySide import QtCore, QtGui
 
         self.obj = obj
+        self.zoomed = None  # (centre, size) of the last zoom to selected elements
         self.ids, self.angles, self.groups = element_quality(obj)
         self.png = os.path.join(tempfile.mkdtemp(prefix="oraclemesh-hist-"), "histogram.png")
-        histogram_png(self.angles, self.png, "%s: %d tets, min %.1f deg, median %.1f deg"
+        self.under_one_degree = int(np.count_nonzero(self.angles < 1.0))
+        histogram_png(self.angles, self.png, "%s: %d tets, min %.2g deg, median %.1f deg, %d under 1 deg"
                       % (obj.Label, len(self.angles), self.angles.min(),
-                         np.median(self.angles)))
+                         np.median(self.angles), self.under_one_degree))
         self.dialog = QtGui.QDialog(FreeCADGui.getMainWindow())
         self.dialog.setWindowTitle("OracleMesh quality: " + obj.Label)
         layout = QtGui.QVBoxLayout(self.dialog)
         picture = QtGui.QLabel()
         picture.setPixmap(QtGui.QPixmap(self.png))
         layout.addWidget(picture)
-        layout.addWidget(QtGui.QLabel("Worst elements (select to highlight their nodes):"))
+        layout.addWidget(QtGui.QLabel("Worst elements (select to highlight their nodes and zoom to them):"))
         self.worst = QtGui.QTableWidget(0, 3)
         self.worst.setHorizontalHeaderLabels(["Element", "Min dihedral (deg)", "Group"])
         self.worst.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
@@ -106,10 +114,40 @@ class HistogramDialog:
         for e in self.selected_elements():
             nodes.update(self.obj.FemMesh.getElementNodes(e))
         self.obj.ViewObject.HighlightedNodes = sorted(nodes)
+        if nodes:
+            self.zoomed = zoom_to(self.obj, sorted(nodes))
 
     def clear(self, *_):
         if self.obj.ViewObject is not None:
             self.obj.ViewObject.HighlightedNodes = []
+
+
+def zoom_to(obj, nodes, margin=4.0):
+    """Point the active 3D view at the nodes, showing `margin` times their extent around them
+    (a flat element is a dot at the model's scale), from the current viewing direction.
+    Returns (the centre in global coordinates, the size shown)."""
+    import FreeCAD
+    import FreeCADGui
+    from pivy import coin
+
+    mesh = obj.FemMesh
+    # FEM nodes are in the object's frame.
+    xyz = np.array([tuple(obj.Placement.multVec(mesh.getNodeById(n))) for n in nodes], float)
+    lo, hi = xyz.min(axis=0), xyz.max(axis=0)
+    centre = [float(c) for c in (lo + hi) / 2]
+    model = mesh.BoundBox.DiagonalLength
+    size = max(margin * float(np.linalg.norm(hi - lo)), 1e-3 * model)
+    camera = FreeCADGui.ActiveDocument.ActiveView.getCameraNode()
+    direction = camera.orientation.getValue().multVec(coin.SbVec3f(0, 0, -1)).getValue()
+    if isinstance(camera, coin.SoOrthographicCamera):
+        distance = model  # in front of the whole model, so nothing near is clipped
+        camera.height.setValue(size)
+    else:
+        distance = size / (2.0 * float(np.tan(camera.heightAngle.getValue() / 2.0)))
+    camera.position.setValue(coin.SbVec3f(*[c - d * distance for c, d in zip(centre, direction)]))
+    camera.focalDistance.setValue(distance)
+    FreeCAD.Console.PrintLog("OracleMesh: zoomed to %d node(s) around %s\n" % (len(nodes), centre))
+    return centre, size
 
 
 _open = []  # keep dialogs alive while shown

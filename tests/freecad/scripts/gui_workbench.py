@@ -406,6 +406,7 @@ def check(out):
     pump()
 
     step("histogram and export")
+    from pivy import coin
     from oraclemesh_fc import quality, export
     dialog = quality.show_histogram(mesh)
     pump()
@@ -414,7 +415,22 @@ def check(out):
     out["histogram"] = {"png": os.path.getsize(dialog.png), "rows": dialog.worst.rowCount(),
                         "worst": float(dialog.angles.min()),
                         "report_min": json.loads(mesh.Report)["quality"]["min_dihedral_deg"],
-                        "highlighted": len(mesh.ViewObject.HighlightedNodes)}
+                        "highlighted": len(mesh.ViewObject.HighlightedNodes),
+                        "under_one_degree": dialog.under_one_degree,
+                        "angles_under_one": int((dialog.angles < 1.0).sum()),
+                        "model_diagonal": mesh.FemMesh.BoundBox.DiagonalLength}
+    camera = FreeCADGui.ActiveDocument.ActiveView.getCameraNode()
+    if dialog.zoomed is not None:
+        centre, size = dialog.zoomed
+        eye = camera.position.getValue().getValue()
+        look = camera.orientation.getValue().multVec(coin.SbVec3f(0, 0, -1)).getValue()
+        to_centre = [c - e for c, e in zip(centre, eye)]
+        along = sum(a * b for a, b in zip(to_centre, look))
+        # How far the element's centre is from the camera's line of sight.
+        off_axis = sum((t - along * l) ** 2 for t, l in zip(to_centre, look)) ** 0.5
+        out["histogram"]["zoom"] = {"size": size, "off_axis": off_axis, "in_front": along > 0,
+                                    "ortho_height": camera.height.getValue()
+                                    if isinstance(camera, coin.SoOrthographicCamera) else None}
     dialog.dialog.close()
     pump()
     out["export"] = {}
