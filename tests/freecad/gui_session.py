@@ -7,6 +7,7 @@ ORACLEMESH_TEST_OUTPUT/freecad/<name> when that is set, else to a pytest tempora
 """
 import json
 import os
+import signal
 import shutil
 import subprocess
 import sys
@@ -42,14 +43,19 @@ def run_gui_script(tmp_path_factory, script, name, timeout=600):
     env.pop("ORACLEMESH_WORKER_CRASH", None)
     subprocess.run(["bash", os.path.join(REPO, "cmake", "install-workbench.sh"), BUILD],
                    env=env, check=True, capture_output=True)
+    # A session of its own, so that a timeout ends FreeCAD and Xvfb too, not only xvfb-run.
+    proc = subprocess.Popen(
+        ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
+         os.path.join(REPO, "tests", "freecad", "scripts", script)],
+        env=env, cwd=workdir, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        start_new_session=True)
     try:
-        proc = subprocess.run(
-            ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
-             os.path.join(REPO, "tests", "freecad", "scripts", script)],
-            env=env, cwd=workdir, capture_output=True, text=True, timeout=timeout)
-        log = proc.stdout + proc.stderr
+        out, err = proc.communicate(timeout=timeout)
+        log = out + err
     except subprocess.TimeoutExpired:
-        log = "timeout"
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        log = "timeout after %d s" % timeout
     with open(os.path.join(workdir, name + ".log"), "w") as f:
         f.write(log)
     steps = result + ".steps"

@@ -23,7 +23,7 @@ PARTS = ["PLATEAU_BAS", "COLONNE", "COLONNE001", "COLONNE002", "COLONNE003", "PL
 
 @pytest.fixture(scope="module")
 def presse(tmp_path_factory):
-    return run_gui_script(tmp_path_factory, "gui_presse.py", "gui_presse", timeout=900)
+    return run_gui_script(tmp_path_factory, "gui_presse.py", "gui_presse", timeout=1800)  # two presse meshes at the defaults, slow on a loaded machine
 
 
 def test_imported_assembly_meshes_at_defaults_one_group_per_solid(presse):
