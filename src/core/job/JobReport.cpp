@@ -186,10 +186,9 @@ json inputsJson(const std::vector<InputReport>& inputs) {
   return materials;
 }
 
-}  // namespace
-
-namespace {
+// Under this smallest dihedral angle the report warns that a solver may reject elements.
 constexpr double kFlatElementDeg = 0.1;
+
 }  // namespace
 
 void addMeshWarnings(JobReport& report) {

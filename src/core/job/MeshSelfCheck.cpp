@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <random>
 #include <sstream>
 
 #include "domain/BrepTopology.h"
+#include "mesh/Topology.h"
 
 namespace oraclemesh {
 
@@ -73,7 +73,6 @@ double lengthOfIntersection(const Intervals& inside, Intervals cover) {
 struct Overlap {
   double volume = 0;
   double error_bar = 0;
-  bool possible = false;  // some higher entry's box meets e's box
   bool found = false;     // some ray ran inside e and inside a higher entry
 };
 
@@ -96,7 +95,6 @@ Overlap overlapWithHigherEntries(const HierarchicalOracle& oracle, size_t e) {
   }
   Overlap overlap;
   if (higher.empty()) return overlap;
-  overlap.possible = true;
 
   // Rays along z through the region, two jittered ones per cell of a kRays x kRays grid, each
   // cut exactly by the sources' own crossings: the error is only in the grid, and the pair's
@@ -135,41 +133,6 @@ Overlap overlapWithHigherEntries(const HierarchicalOracle& oracle, size_t e) {
   return overlap;
 }
 
-// Face-connected pieces of each material's tetrahedra.
-std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
-  const size_t n = mesh.tets.size();
-  std::vector<size_t> parent(n);
-  std::iota(parent.begin(), parent.end(), size_t{0});
-  auto find = [&](size_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
-  struct Face {
-    std::array<int64_t, 3> v;
-    size_t tet;
-  };
-  std::vector<Face> faces;
-  faces.reserve(4 * n);
-  for (size_t t = 0; t < n; ++t)
-    for (int skip = 0; skip < 4; ++skip) {
-      Face f{{}, t};
-      for (int k = 0, m = 0; k < 4; ++k)
-        if (k != skip) f.v[m++] = mesh.tets[t][k];
-      std::sort(f.v.begin(), f.v.end());
-      faces.push_back(f);
-    }
-  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.v < b.v; });
-  for (size_t i = 0; i + 1 < faces.size(); ++i) {
-    if (faces[i].v != faces[i + 1].v) continue;
-    const size_t a = faces[i].tet, b = faces[i + 1].tet;
-    if (mesh.tet_materials[a] == mesh.tet_materials[b]) parent[find(a)] = find(b);
-  }
-  std::map<int, int64_t> components;
-  for (size_t t = 0; t < n; ++t)
-    if (find(t) == t) ++components[mesh.tet_materials[t]];
-  return components;
-}
-
 std::string partNames(const std::vector<std::string>& names) {
   std::ostringstream out;
   const size_t shown = names.size() <= 3 ? names.size() : 2;
@@ -190,9 +153,11 @@ std::string percent(double fraction) {
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                      const std::map<int, double>& volume_per_material) {
   MeshSelfCheck check;
-  std::map<int, std::vector<std::string>> names;
-  std::map<int, bool> piecesKnown;
-  std::map<int, int64_t> solids;
+  struct Entries {
+    std::vector<std::string> names;
+    bool piecesKnown = true;  // every entry a B-rep solid that nothing higher cuts into
+  };
+  std::map<int, Entries> ofMaterial;
   const auto& entries = oracle.entries();
   for (size_t e = 0; e < entries.size(); ++e) {
     if (entries[e].role != Role::Material) continue;
@@ -201,22 +166,23 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
     const Overlap overlap = overlapWithHigherEntries(oracle, e);
     c.input_volume += entries[e].source->volume() - overlap.volume;
     c.error_bar += overlap.error_bar;
-    names[m].push_back(entries[e].source->name());
+    Entries& of = ofMaterial[m];
+    of.names.push_back(entries[e].source->name());
     // A B-rep entry is one connected solid; a cut or a higher entry through it may split it.
-    const bool known = entries[e].source->brepTopology() != nullptr && !overlap.found;
-    piecesKnown.emplace(m, true);
-    piecesKnown[m] = piecesKnown[m] && known;
-    ++solids[m];
+    of.piecesKnown = of.piecesKnown && entries[e].source->brepTopology() != nullptr && !overlap.found;
   }
   const std::map<int, int64_t> components = componentsPerMaterial(mesh);
   for (auto& [m, c] : check.materials) {
-    c.parts = partNames(names[m]);
+    const Entries& of = ofMaterial[m];
+    c.parts = partNames(of.names);
     const auto v = volume_per_material.find(m);
     c.mesh_volume = v == volume_per_material.end() ? 0.0 : v->second;
     const auto k = components.find(m);
     c.components = k == components.end() ? 0 : k->second;
-    c.max_components = piecesKnown[m] ? solids[m] : -1;
+    c.max_components = of.piecesKnown ? static_cast<int64_t>(of.names.size()) : -1;
     const std::string who = "material " + std::to_string(m) + " (" + c.parts + ")";
+    const std::string key = " (criteria.materials.\"" + std::to_string(m) + "\")";
+    const std::string finer = "give it a smaller cell_size and facet_size" + key;
     if (c.input_volume <= c.error_bar) continue;  // all of it taken by higher entries or cuts
     c.deviation = (c.mesh_volume - c.input_volume) / c.input_volume;
     const double allowed = std::max(check.volume_tolerance, c.error_bar / c.input_volume);
@@ -224,24 +190,20 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
     figures << "(mesh " << c.mesh_volume << ", input " << c.input_volume;
     if (c.error_bar > 0) figures << " +- " << c.error_bar;
     figures << " model units^3)";
-    if (c.mesh_volume == 0) {
-      check.problems.push_back(who + " is missing from the mesh " + figures.str() +
-                               ": it is smaller than its elements; give it a smaller cell_size and facet_size "
-                               "(criteria.materials.\"" + std::to_string(m) + "\")");
-    } else if (c.deviation < -allowed) {
+    if (c.mesh_volume == 0)
+      check.problems.push_back(who + " is missing from the mesh " + figures.str() + ": it is smaller than its elements; " +
+                               finer);
+    else if (c.deviation < -allowed)
       check.problems.push_back(who + " has " + percent(-c.deviation) + " less volume in the mesh than in the input " +
-                               figures.str() + ": its elements are too large for it; give it a smaller cell_size and " +
-                               "facet_size (criteria.materials.\"" + std::to_string(m) + "\")");
-    } else if (c.deviation > allowed) {
+                               figures.str() + ": its elements are too large for it; " + finer);
+    else if (c.deviation > allowed)
       check.problems.push_back(who + " has " + percent(c.deviation) + " more volume in the mesh than in the input " +
                                figures.str() + ": the mesh fills gaps or hollows of it; give it a smaller " +
-                               "facet_distance and facet_size (criteria.materials.\"" + std::to_string(m) + "\")");
-    }
+                               "facet_distance and facet_size" + key);
     if (c.max_components >= 0 && c.components > c.max_components)
       check.problems.push_back(who + " is meshed as " + std::to_string(c.components) + " separate pieces but is " +
                                std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
-                               "than its elements; give it a smaller cell_size and facet_size (criteria.materials.\"" +
-                               std::to_string(m) + "\")");
+                               "than its elements; " + finer);
   }
   return check;
 }

@@ -176,6 +176,25 @@ void requireFeatureEdgesInTets(const TetMesh& mesh) {
   throw Error(message.str());
 }
 
+std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
+  requireConsistentIndices(mesh);
+  std::vector<size_t> parent(mesh.tets.size());
+  for (size_t t = 0; t < parent.size(); ++t) parent[t] = t;
+  auto root = [&](size_t t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (const FaceRecord& face : buildFaceTable(mesh)) {
+    if (face.tet_count < 2) continue;
+    const size_t a = static_cast<size_t>(face.tets[0]), b = static_cast<size_t>(face.tets[1]);
+    if (mesh.tet_materials[a] == mesh.tet_materials[b]) parent[root(a)] = root(b);
+  }
+  std::map<int, int64_t> components;
+  for (size_t t = 0; t < parent.size(); ++t)
+    if (root(t) == t) ++components[mesh.tet_materials[t]];
+  return components;
+}
+
 std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh) {
   requireConsistentIndices(mesh);
   std::vector<BoundaryTriangle> boundary;

@@ -3,6 +3,7 @@
 // mesh from a broken one (non-manifold faces, holes in a material's boundary, folded tets,
 // tet10 mid nodes that neighbouring tets do not share).
 #include <cstdint>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -63,6 +64,9 @@ struct ConformityReport {
 };
 
 ConformityReport checkConformity(const TetMesh& mesh);
+
+// Per material, the pieces its tetrahedra form when tets sharing a face are joined.
+std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh);
 
 // After a step that rebuilt `to` from `from` and may have moved or renumbered points (CGAL's
 // sliver perturbation): each point of `to` gets the vertex_boundary_entry of the point of
