@@ -3,7 +3,7 @@
 
 - FreeCAD's own STEP import gives one compound of 16 solids; the mesh command at the
   defaults lists one row per solid, named as the STEP file names the parts, and meshes it
-  into one volume group per solid;
+  into one volume group per solid; the hand-off gives every feature edge its mid node;
 - the screenshot shows at least 10 part colours and no selection highlight;
 - examples/OracleMesh_Presse.FCMacro makes the same mesh, and CalculiX solves it: the ram is
   pushed down and the base's reaction balances the force;
@@ -39,6 +39,21 @@ def test_imported_assembly_meshes_at_defaults_one_group_per_solid(presse):
     assert all(n > 0 for n in presse["groups"].values())
     assert sum(presse["groups"].values()) == presse["mesh"]["volumes"]
     assert presse["groups_cover_all_once"]
+
+
+def test_imported_assembly_hand_off_at_defaults(presse):
+    # The recompute used to fail in the hand-off, on feature edges the core returned that
+    # were no edge of its tets (issue 17).
+    assert presse["options"] == {"engine": "thesis", "order": 2, "sharp": 30.0, "cell_size": 0.0}
+    assert presse["nodes_per_volume"] == 10
+    assert presse["max_signed_volume6"] < 0  # FreeCAD's orientation
+    assert presse["feature_edges"] > 4000
+    assert presse["feature_edge_mid_nodes"] == presse["feature_edges"]
+    assert presse["final_check"]["subsegments_outside_material"] == 0
+    print("presse at defaults in the GUI: %d nodes, %d tet10, %d feature edges, dihedral %.3g-%.6g "
+          "deg, final check %s" % (presse["mesh"]["nodes"], presse["mesh"]["volumes"],
+                                   presse["feature_edges"], presse["quality"]["min_dihedral_deg"],
+                                   presse["quality"]["max_dihedral_deg"], presse["final_check"]))
 
 
 def test_screenshot_shows_the_part_colours_without_highlight(presse):

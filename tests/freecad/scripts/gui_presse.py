@@ -3,7 +3,9 @@
   macro     examples/OracleMesh_Presse.FCMacro: the presse as a FEM analysis, meshed and
             solved by CalculiX (FreeCAD's ccxtools, as the solver's task panel runs it)
   import    what a user does: FreeCAD's own STEP import (ImportGui.insert, one compound of 16
-            solids), select it, "Mesh selection with OracleMesh" at the defaults, Mesh
+            solids), select it, "Mesh selection with OracleMesh" at the defaults, Mesh; the
+            hand-off's facts (tet10 in FreeCAD's orientation, a mid node on every feature
+            edge, the core's final check)
   look      screenshot of the mesh: the part colours, no selection highlight
   rows      the panel's per-solid rows: a FEM material on one solid, a name on another, one
             moved to the top, the compound treated as one input and split again
@@ -12,6 +14,7 @@ Writes what it measured as JSON to $OMFC_RESULT; test_gui_presse.py judges it. P
 (optional) overrides the element order of both meshes.
 """
 import hashlib
+import json
 import os
 import sys
 import time
@@ -23,6 +26,7 @@ STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from gui_script import main, pump, step  # noqa: E402
+from fc_harness import mesh_facts  # noqa: E402
 
 
 def mesh_fingerprint(mesh_obj):
@@ -146,6 +150,16 @@ def check(out):
     fm = mesh.FemMesh
     members = sorted(e for g in fm.Groups for e in fm.getGroupElements(g))
     out["groups_cover_all_once"] = members == sorted(fm.Volumes)
+    out["options"] = {"engine": mesh.Engine, "order": mesh.ElementOrder,
+                      "sharp": float(mesh.SharpAngle), "cell_size": float(mesh.CellSize)}
+    facts = mesh_facts(mesh)
+    out["nodes_per_volume"] = facts["nodes_per_volume"]
+    out["max_signed_volume6"] = facts["max_signed_volume6"]
+    out["feature_edges"] = len(mesh.FeatureEdges) // 2
+    out["feature_edge_mid_nodes"] = len(mesh.FeatureEdgeMidNodes)
+    report = json.loads(mesh.Report)
+    out["final_check"] = report["thesis"]["final_check"]
+    out["quality"] = report["quality"]
 
     step("screenshot")
     pump(0.5)
