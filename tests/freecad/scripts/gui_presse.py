@@ -146,13 +146,11 @@ def check(out):
     out["status"] = mesh.Status
     out["messages"] = list(shown)
     out["mesh"] = mesh_fingerprint(mesh)
-    out["groups"] = groups(mesh)
-    fm = mesh.FemMesh
-    members = sorted(e for g in fm.Groups for e in fm.getGroupElements(g))
-    out["groups_cover_all_once"] = members == sorted(fm.Volumes)
+    facts = mesh_facts(mesh)
+    out["groups"] = facts["group_sizes"]
+    out["groups_cover_all_once"] = facts["groups_cover_all_once"]
     out["options"] = {"engine": mesh.Engine, "order": mesh.ElementOrder,
                       "sharp": float(mesh.SharpAngle), "cell_size": float(mesh.CellSize)}
-    facts = mesh_facts(mesh)
     out["nodes_per_volume"] = facts["nodes_per_volume"]
     out["max_signed_volume6"] = facts["max_signed_volume6"]
     out["feature_edges"] = len(mesh.FeatureEdges) // 2
