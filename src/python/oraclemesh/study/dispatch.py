@@ -116,6 +116,7 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
         tries[case.name][0] += 1
         return client.submit(execute.run_case, task, files, key=key, pure=False, retries=1)
 
+    started = set()  # keys seen started, kept across polls: one failed poll forgets none
     pending = {}
     for number, case in enumerate(cases):
         tries[case.name] = [0, 0]
@@ -131,7 +132,8 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
                 count[1] += 1
             else:
                 # A case queued on a lost worker did not start: sent again without counting.
-                count[1] += future.key in started_keys(client)
+                started |= started_keys(client)
+                count[1] += future.key in started
                 if count[1] < attempts and count[0] < attempts + UNSTARTED_RESUBMITS:
                     pending[submit(case, number)] = (case, number)
                 else:
@@ -143,7 +145,7 @@ def run_cases(client, cases, out, attempts, grace, ship, on_row, bar):
                 on_row(row)
         now = time.time()
         if now - last_poll >= 1.0:
-            started = started_keys(client)
+            started |= started_keys(client)
             running = sum(1 for f in pending if f.key in started)
             last_poll = now
         bar(running)

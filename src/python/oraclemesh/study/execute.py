@@ -110,9 +110,19 @@ def _worker_address():
 
 
 def _announce(task):
+    """Tells the scheduler that the case began, and returns once the scheduler has it: the
+    worker's own log_event only queues the message, and a worker killed a few milliseconds
+    later (out of memory at once) would take it along, so the lost case would not count."""
     worker = _worker()
-    if worker is not None and task.get("key"):
-        worker.log_event(STARTED_TOPIC, {"key": task["key"], "case": task["name"]})
+    if worker is None or not task.get("key"):
+        return
+    msg = {"key": task["key"], "case": task["name"]}
+    try:
+        from distributed.utils import sync
+        sync(worker.loop, worker.scheduler.log_event, topic=STARTED_TOPIC, msg=msg,
+             callback_timeout=30)
+    except Exception:
+        worker.log_event(STARTED_TOPIC, msg)  # the scheduler is busy or unreachable: queue it
 
 
 def check_worker(paths):
