@@ -186,10 +186,45 @@ json inputsJson(const std::vector<InputReport>& inputs) {
   return materials;
 }
 
+// Parts are named as in report.inputs, so a user finds the interface of the two inputs they gave.
+json surfacesJson(const std::vector<SurfaceReport>& surfaces, const MaterialNames& names, bool interfaces) {
+  json list = json::array();
+  for (const SurfaceReport& s : surfaces) {
+    if ((s.other_material != 0) != interfaces) continue;
+    json entry = {{"name", s.name}, {"area", s.area}, {"triangles", s.triangles}};
+    if (interfaces) {
+      entry["parts"] = {materialName(names, s.material), materialName(names, s.other_material)};
+      entry["materials"] = {s.material, s.other_material};
+    } else {
+      entry["part"] = materialName(names, s.material);
+      entry["material"] = s.material;
+    }
+    list.push_back(entry);
+  }
+  return list;
+}
+
 // Under this smallest dihedral angle the report warns that a solver may reject elements.
 constexpr double kFlatElementDeg = 0.1;
 
 }  // namespace
+
+MaterialNames partNames(const std::vector<InputReport>& inputs) {
+  MaterialNames names;
+  for (const InputReport& e : inputs) {
+    if (e.role != Role::Material) continue;
+    std::string& name = names[e.material];
+    name += (name.empty() ? "" : "+") + e.name;
+  }
+  return names;
+}
+
+std::vector<SurfaceReport> describeSurfaces(const std::vector<MeshSurface>& surfaces, const MaterialNames& names) {
+  std::vector<SurfaceReport> result;
+  for (const MeshSurface& s : surfaces)
+    result.push_back({s.material, s.other_material, surfaceName(names, s), s.area, s.faces.size()});
+  return result;
+}
 
 void addMeshWarnings(JobReport& report) {
   const BoundarySnapStatistics& snap = report.boundary_snap.statistics;
@@ -242,6 +277,9 @@ json reportJson(const JobReport& r) {
   if (r.element_order == 2) report["second_order_straight_fallbacks"] = r.second_order_straight_fallbacks;
   report["bbox_diagonal"] = r.bbox_diagonal;
   report["inputs"] = inputsJson(r.inputs);
+  const MaterialNames names = partNames(r.inputs);
+  report["interfaces"] = surfacesJson(r.surfaces, names, true);
+  report["exteriors"] = surfacesJson(r.surfaces, names, false);
   report["warnings"] = r.warnings;
   report["seconds"] = r.seconds;
   return report;

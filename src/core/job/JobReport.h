@@ -19,6 +19,7 @@
 #include "job/MeshSelfCheck.h"
 #include "mesh/BoundarySnap.h"
 #include "mesh/Quality.h"
+#include "mesh/Surfaces.h"
 #include "mesh/Topology.h"
 #include "refine/ThesisEngine.h"
 
@@ -77,6 +78,20 @@ struct MeshCounts {
   size_t vertices = 0, tets = 0, boundary_triangles = 0, feature_edges = 0;
 };
 
+// Part names per material id: the names of the material inputs (solids) with that id, joined
+// by '+' when several share it. Interfaces and exteriors are named after these.
+MaterialNames partNames(const std::vector<InputReport>& inputs);
+
+// report.interfaces / report.exteriors: one entry per meshSurfaces surface.
+struct SurfaceReport {
+  int material = 0, other_material = 0;  // other_material 0: an exterior
+  std::string name;                      // the INP *SURFACE and FreeCAD face group name
+  double area = 0;
+  size_t triangles = 0;
+};
+
+std::vector<SurfaceReport> describeSurfaces(const std::vector<MeshSurface>& surfaces, const MaterialNames& names);
+
 struct JobReport {
   std::string version;
   Engine engine = Engine::Thesis;
@@ -96,6 +111,7 @@ struct JobReport {
   ConformityReport conformity;
   MeshCheckMode checks = MeshCheckMode::Warn;
   MeshSelfCheck self_check;
+  std::vector<SurfaceReport> surfaces;  // interfaces and exteriors, as meshSurfaces orders them
   std::vector<std::string> warnings;  // in the order the phases found them
   std::map<std::string, double> seconds;
 };

@@ -83,6 +83,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.quality = measureQuality(mesh);
   report.conformity = checkConformity(mesh);
   report.counts = {mesh.points.size(), mesh.tets.size(), mesh.boundary.size(), mesh.feature_edges.size()};
+  const MaterialNames names = partNames(report.inputs);
+  report.surfaces = describeSurfaces(meshSurfaces(mesh), names);
   addMeshWarnings(report);
 
   control.report("check", 0);
@@ -99,7 +101,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   }
 
   control.report("write", 0);
-  for (const std::string& path : job.output_files) writeMeshFile(path, mesh);
+  for (const std::string& path : job.output_files) writeMeshFile(path, mesh, names);
   clock.finish("write");
   report.seconds = clock.seconds;
   JobResult result;

@@ -167,14 +167,15 @@ void writeVtu(const std::string& path, const TetMesh& mesh) {
   out.close();
 }
 
-void writeInp(const std::string& path, const TetMesh& mesh) {
+void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
   requireConsistentIndices(mesh);
   requireFinitePoints(mesh, path);
   const char* elementType = mesh.order() == 2 ? "C3D10" : "C3D4";
   OutputFile out(path);
   out.print("** OracleMesh tetrahedral mesh: %zu nodes, %zu %s elements\n", mesh.points.size(), mesh.tets.size(),
             elementType);
-  out.print("** element sets Material<id> (one per material) and Eall (all elements)\n");
+  out.print("** element sets Material<id> (one per material) and Eall (all elements); surfaces Interface_<part>_<part>\n");
+  out.print("** and Exterior_<part> over element faces\n");
   out.print("*NODE, NSET=Nall\n");
   for (size_t i = 0; i < mesh.points.size(); ++i)
     out.print("%zu, %s, %s, %s\n", i + 1, inpCoordinate(mesh.points[i][0]).c_str(),
@@ -196,6 +197,12 @@ void writeInp(const std::string& path, const TetMesh& mesh) {
     out.print("*ELSET, ELSET=Eall\n");
     for (const auto& [material, tets] : tetsOfMaterial) out.print("Material%d\n", material);
   }
+  // Loads, ties and contacts in CalculiX refer to element faces; these give users and the
+  // workbench every interface and exterior by the parts' names.
+  for (const MeshSurface& surface : meshSurfaces(mesh)) {
+    out.print("*SURFACE, NAME=%s, TYPE=ELEMENT\n", surfaceName(names, surface).c_str());
+    for (const ElementFace& f : surface.faces) out.print("%lld, S%d\n", static_cast<long long>(f.tet + 1), f.face + 1);
+  }
   out.close();
 }
 
@@ -206,10 +213,10 @@ std::string meshFileFormatProblem(const std::string& path) {
          "; supported mesh file extensions are .vtu (VTK, ParaView) and .inp (Abaqus / CalculiX)";
 }
 
-void writeMeshFile(const std::string& path, const TetMesh& mesh) {
+void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
   const std::string ext = lowerCaseExtension(path);
   if (ext == ".vtu") return writeVtu(path, mesh);
-  if (ext == ".inp") return writeInp(path, mesh);
+  if (ext == ".inp") return writeInp(path, mesh, names);
   throw InputError("cannot write the mesh file '" + path + "': " + meshFileFormatProblem(path));
 }
 

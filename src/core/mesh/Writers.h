@@ -5,6 +5,7 @@
 // Failures to open or write a file throw oraclemesh::Error naming the path.
 #include <string>
 
+#include "mesh/Surfaces.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -21,11 +22,13 @@ void writeVtu(const std::string& path, const TetMesh& mesh);
 // Coordinates: CalculiX reads at most 20 characters per coordinate, so a number whose exact
 // form is longer (e.g. 3.3333333333333337e-06) is rounded to the most digits that fit, at
 // least 14 significant ones (relative error <= 5e-14; 13 digits for |x| < 1e-99 or > 1e99).
-void writeInp(const std::string& path, const TetMesh& mesh);
+// Then one *SURFACE, TYPE=ELEMENT per interface and per part exterior (meshSurfaces), named
+// by surfaceName after the parts in `names`, as "element, S<n>" lines (kCalculixTetFaces).
+void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
 
 // Writes by file extension (case-insensitive): .vtu or .inp. Any other extension throws
 // oraclemesh::InputError naming the path and the supported extensions.
-void writeMeshFile(const std::string& path, const TetMesh& mesh);
+void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
 // Why `path` cannot be written as a mesh file (its extension), or "" when it can.
 std::string meshFileFormatProblem(const std::string& path);
 

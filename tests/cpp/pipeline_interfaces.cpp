@@ -1,0 +1,218 @@
+// Interfaces between parts and the exterior of each part (issue 19, item 1): the report's areas
+// against the exact contact areas, and the INP's *SURFACE faces read back from the file: each a
+// real face of its element, between the two materials it is named after.
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "demo_assembly_job.h"
+#include "job/Pipeline.h"
+#include "mesh/Surfaces.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+
+// What the INP says, parsed independently of the writer.
+struct InpDeck {
+  std::map<int64_t, Point3> nodes;
+  std::map<int64_t, std::vector<int64_t>> elements;
+  std::map<int64_t, int> elementMaterial;                       // from ELSET=Material<id>
+  std::map<std::string, std::vector<std::pair<int64_t, int>>> surfaces;  // element, S<n>
+};
+
+InpDeck readInp(const std::string& path) {
+  InpDeck deck;
+  std::ifstream in(path);
+  std::string line, block, surface;
+  int material = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("**", 0) == 0) continue;
+    if (line[0] == '*') {
+      block = line.substr(0, line.find(','));
+      if (block == "*ELEMENT") material = std::stoi(line.substr(line.find("ELSET=Material") + 14));
+      if (block == "*SURFACE") {
+        const size_t at = line.find("NAME=") + 5;
+        surface = line.substr(at, line.find(',', at) - at);
+        deck.surfaces[surface];
+      }
+      continue;
+    }
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    if (block == "*NODE") {
+      int64_t id;
+      Point3 p;
+      fields >> id >> p[0] >> p[1] >> p[2];
+      deck.nodes[id] = p;
+    } else if (block == "*ELEMENT") {
+      int64_t id, n;
+      fields >> id;
+      while (fields >> n) deck.elements[id].push_back(n);
+      deck.elementMaterial[id] = material;
+    } else if (block == "*SURFACE") {
+      int64_t element;
+      std::string label;
+      fields >> element >> label;
+      deck.surfaces[surface].push_back({element, std::stoi(label.substr(1))});
+    }
+  }
+  return deck;
+}
+
+Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point3 cross(const Point3& a, const Point3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// CalculiX' tet faces, one-based corners, written out again from the manual (not from the code
+// under test): S1 = 1-2-3, S2 = 1-4-2, S3 = 2-4-3, S4 = 3-4-1.
+constexpr int kFaceCorners[4][3] = {{1, 2, 3}, {1, 4, 2}, {2, 4, 3}, {3, 4, 1}};
+
+struct FaceCheck {
+  double area = 0;
+  std::vector<Point3> centroids;
+};
+
+// Checks every face of surface `name` and returns its area and centroids: the face's corners
+// are corners of the named element in CalculiX' order (seen from the opposite corner, as the
+// element's positive volume orders them: normal towards that corner), and the tets with
+// that face are of exactly the materials named (one tet for an exterior).
+FaceCheck checkSurface(const InpDeck& deck, const std::string& name, std::set<int> materials) {
+  std::map<std::array<int64_t, 3>, std::set<int>> faceMaterials;
+  std::map<std::array<int64_t, 3>, int> faceTets;
+  for (const auto& [id, nodes] : deck.elements)
+    for (const auto& corners : kFaceCorners) {
+      std::array<int64_t, 3> key = {nodes[corners[0] - 1], nodes[corners[1] - 1], nodes[corners[2] - 1]};
+      std::sort(key.begin(), key.end());
+      faceMaterials[key].insert(deck.elementMaterial.at(id));
+      ++faceTets[key];
+    }
+  FaceCheck result;
+  const auto it = deck.surfaces.find(name);
+  EXPECT_NE(it, deck.surfaces.end()) << name;
+  if (it == deck.surfaces.end()) return result;
+  for (const auto& [element, label] : it->second) {
+    const std::vector<int64_t>& nodes = deck.elements.at(element);
+    EXPECT_TRUE(label >= 1 && label <= 4) << name << " element " << element;
+    if (label < 1 || label > 4) continue;
+    const int* c = kFaceCorners[label - 1];
+    const Point3 &a = deck.nodes.at(nodes[c[0] - 1]), &b = deck.nodes.at(nodes[c[1] - 1]),
+                 &d = deck.nodes.at(nodes[c[2] - 1]);
+    const int opposite = 10 - c[0] - c[1] - c[2];
+    const Point3 n = cross(sub(b, a), sub(d, a));
+    EXPECT_GT(dot(n, sub(deck.nodes.at(nodes[opposite - 1]), a)), 0) << name << " element " << element;
+    result.area += 0.5 * std::sqrt(dot(n, n));
+    result.centroids.push_back({(a[0] + b[0] + d[0]) / 3, (a[1] + b[1] + d[1]) / 3, (a[2] + b[2] + d[2]) / 3});
+    std::array<int64_t, 3> key = {nodes[c[0] - 1], nodes[c[1] - 1], nodes[c[2] - 1]};
+    std::sort(key.begin(), key.end());
+    EXPECT_EQ(faceMaterials.at(key), materials) << name << " element " << element;
+    EXPECT_EQ(faceTets.at(key), static_cast<int>(materials.size())) << name << " element " << element;
+  }
+  return result;
+}
+
+const json* interfaceBetween(const json& report, const std::string& a, const std::string& b) {
+  for (const json& i : report["interfaces"])
+    if (i["parts"] == json::array({a, b})) return &i;
+  return nullptr;
+}
+
+JobResult runWithInp(json job, const std::string& inp) {
+  job["output"] = {{"files", {inp}}};
+  return runJob(JobSpec::fromJson(job, ""), RunControl());
+}
+
+std::string tempPath(const std::string& name) { return (std::filesystem::temp_directory_path() / name).string(); }
+
+// Two boxes sharing the rectangle x 2..8, y 3..9 at z = 10 (area 36), the upper one standing
+// inside the lower's top face: planar faces, so the mesh's interface is the rectangle exactly.
+TEST(Interfaces, TwoBoxesShareTheirContactRectangle) {
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(2, 3, 10), 6, 6, 5).Shape();
+  const json job = {{"inputs",
+                     {{{"name", "Lower"}, {"brep", test::brepText(lower)}, {"material", 1}},
+                      {{"name", "Upper"}, {"brep", test::brepText(upper)}, {"material", 2}}}},
+                    {"criteria", {{"default", {{"cell_size", 3}, {"facet_size", 3}, {"facet_distance", 0.5}}}}},
+                    {"element_order", 1},
+                    {"seed", 0}};
+  const std::string inp = tempPath("oraclemesh_interfaces_boxes.inp");
+  const JobResult result = runWithInp(job, inp);
+  const json& report = result.report;
+  ASSERT_EQ(report["interfaces"].size(), 1u) << report["interfaces"].dump();
+  const json* contact = interfaceBetween(report, "Lower", "Upper");
+  ASSERT_NE(contact, nullptr);
+  EXPECT_EQ((*contact)["name"], "Interface_Lower_Upper");
+  EXPECT_NEAR((*contact)["area"].get<double>(), 36.0, 36.0 * 1e-9);
+
+  // Exteriors: the box surfaces less the contact, once on each side.
+  const double lowerExterior = 6 * 100.0 - 36, upperExterior = 2 * (6 * 6 + 6 * 5 + 6 * 5) - 36;
+  ASSERT_EQ(report["exteriors"].size(), 2u);
+  for (const json& e : report["exteriors"]) {
+    const double expected = e["part"] == "Lower" ? lowerExterior : upperExterior;
+    EXPECT_NEAR(e["area"].get<double>(), expected, expected * 1e-9) << e.dump();
+  }
+
+  const InpDeck deck = readInp(inp);
+  const FaceCheck faces = checkSurface(deck, "Interface_Lower_Upper", {1, 2});
+  EXPECT_EQ(faces.centroids.size(), (*contact)["triangles"].get<size_t>());
+  EXPECT_NEAR(faces.area, 36.0, 36.0 * 1e-9);
+  for (const Point3& c : faces.centroids) {
+    EXPECT_NEAR(c[2], 10.0, 1e-9);
+    EXPECT_TRUE(c[0] > 2 && c[0] < 8 && c[1] > 3 && c[1] < 9) << c[0] << " " << c[1];
+  }
+  for (const json& e : report["exteriors"]) {
+    const FaceCheck exterior = checkSurface(deck, e["name"], {e["material"].get<int>()});
+    EXPECT_EQ(exterior.centroids.size(), e["triangles"].get<size_t>());
+    EXPECT_NEAR(exterior.area, e["area"].get<double>(), 1e-9 * e["area"].get<double>());
+  }
+  std::filesystem::remove(inp);
+}
+
+// The demo's pin (radius 5) through the plate (10 thick): their interface is the pin's
+// cylinder face inside the plate, 2 pi 5 10; tet10, whose *SURFACE faces are the same S1..S4.
+TEST(Interfaces, DemoPinInPlateInterfaceIsTheCylinderInsideThePlate) {
+  const std::string inp = tempPath("oraclemesh_interfaces_demo.inp");
+  const JobResult result = runWithInp(test::demoAssemblyJob(2), inp);
+  const json& report = result.report;
+  ASSERT_EQ(report["interfaces"].size(), 1u) << report["interfaces"].dump();
+  const json* pinPlate = interfaceBetween(report, "Pin", "Plate");
+  ASSERT_NE(pinPlate, nullptr);
+  const double exact = 2 * M_PI * 5 * 10;
+  EXPECT_NEAR((*pinPlate)["area"].get<double>(), exact, 0.005 * exact);
+  std::cout << "demo pin-plate interface area " << (*pinPlate)["area"] << " exact " << exact << "\n";
+
+  const InpDeck deck = readInp(inp);
+  const FaceCheck faces = checkSurface(deck, (*pinPlate)["name"], {1, 2});
+  EXPECT_EQ(faces.centroids.size(), (*pinPlate)["triangles"].get<size_t>());
+  for (const Point3& c : faces.centroids) {
+    // Corners on the cylinder, so a flat triangle's centroid is at most facet_distance inside.
+    EXPECT_NEAR(std::hypot(c[0] - 30, c[1] - 30), 5.0, 0.05);
+    EXPECT_TRUE(c[2] > 0 && c[2] < 10) << c[2];
+  }
+  EXPECT_EQ(report["exteriors"].size(), 2u);
+  for (const json& e : report["exteriors"])
+    EXPECT_EQ(checkSurface(deck, e["name"], {e["material"].get<int>()}).centroids.size(),
+              e["triangles"].get<size_t>());
+  std::filesystem::remove(inp);
+}
+
+TEST(Interfaces, NamesAreInpLegal) {
+  EXPECT_EQ(inpName("presse_asm.step#3"), "presse_asm_step_3");
+  EXPECT_EQ(inpName("3rd part"), "S3rd_part");
+  EXPECT_EQ(inpName(std::string(100, 'a')).size(), 80u);
+}
+
+}  // namespace
+}  // namespace oraclemesh
