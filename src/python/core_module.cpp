@@ -57,6 +57,19 @@ py::dict toPython(const JobResult& result) {
   d["feature_edges"] = table<int64_t, 2>(m.feature_edges);
   d["feature_edge_curves"] = column<int32_t>(m.feature_edge_curves);
   d["vertex_dimension"] = column<int8_t>(m.vertex_dimension);
+  py::list surfaces;
+  for (size_t i = 0; i < result.surfaces.size(); ++i) {
+    const MeshSurface& s = result.surfaces[i];
+    std::vector<std::array<int64_t, 2>> faces;
+    for (const ElementFace& f : s.faces) faces.push_back({f.tet, f.face});
+    py::dict surface;
+    surface["name"] = result.surface_names[i];
+    surface["material"] = s.material;
+    surface["other_material"] = s.other_material;
+    surface["faces"] = table<int64_t, 2>(faces);
+    surfaces.append(surface);
+  }
+  d["surfaces"] = surfaces;
   d["report"] = result.report.dump();
   return d;
 }

@@ -84,7 +84,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.conformity = checkConformity(mesh);
   report.counts = {mesh.points.size(), mesh.tets.size(), mesh.boundary.size(), mesh.feature_edges.size()};
   const MaterialNames names = partNames(report.inputs);
-  report.surfaces = describeSurfaces(meshSurfaces(mesh), names);
+  std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
+  report.surfaces = describeSurfaces(surfaces, names);
   addMeshWarnings(report);
 
   control.report("check", 0);
@@ -109,6 +110,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   if (!job.report_file.empty()) writeReportFile(job.report_file, result.report);
   control.report("done", 1);
   result.mesh = std::move(mesh);
+  result.surfaces = std::move(surfaces);
+  for (const SurfaceReport& s : report.surfaces) result.surface_names.push_back(s.name);
   return result;
 }
 

@@ -6,6 +6,7 @@
 
 #include "RunControl.h"
 #include "job/JobSpec.h"
+#include "mesh/Surfaces.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -13,6 +14,10 @@ namespace oraclemesh {
 struct JobResult {
   TetMesh mesh;
   nlohmann::json report;
+  // Interfaces and exteriors as element faces, named as in the report and the INP, so that
+  // callers (FreeCAD's face groups) need not find and name them again.
+  std::vector<MeshSurface> surfaces;
+  std::vector<std::string> surface_names;  // one per surface
 };
 
 // Throws InputError (bad job or input), LimitError (vertex / time limit) or Cancelled.

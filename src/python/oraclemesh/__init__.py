@@ -16,6 +16,8 @@ import sys
 import tempfile
 import threading
 
+import numpy as np
+
 from . import _core
 from ._core import Cancelled, Error, InputError, LimitError
 from .images import with_image_files
@@ -33,6 +35,10 @@ class Result:
     boundary_materials (k, 2) = (material inside, material outside; 0 = no material).
     feature_edges: (e, 2) int64 mesh edges on constrained segments, feature_edge_curves (e,).
     vertex_dimension: (n,) 0 corner, 1 on a feature curve, 2 on a surface, 3 interior.
+    surfaces: list of dicts, one per interface (material < other_material) and per part
+    exterior (other_material 0): name (as the INP *SURFACE and report.interfaces/exteriors),
+    material, other_material, faces (f, 2) int64 = (tet index, face 0..3 = CalculiX S1..S4:
+    corners 012, 031, 132, 230); an interface's faces are taken from the smaller material's tets.
     report: dict (counts, quality, criteria, seconds per phase, warnings).
     """
 
@@ -42,7 +48,27 @@ class Result:
     def __init__(self, arrays):
         for name in self.ARRAYS:
             setattr(self, name, arrays[name])
+        self.surfaces = list(arrays.get("surfaces", []))
         self.report = json.loads(str(arrays["report"]))
+
+    def surface_arrays(self):
+        """The surfaces as plain arrays (what np.savez can carry from run_isolated's child):
+        surface_names/surface_materials (s, 2) per surface, surface_faces (f, 3) = (surface,
+        tet, face)."""
+        faces = [np.column_stack([np.full(len(s["faces"]), i), np.asarray(s["faces"]).reshape(-1, 2)])
+                 for i, s in enumerate(self.surfaces)]
+        return {"surface_names": np.array([s["name"] for s in self.surfaces], dtype=str),
+                "surface_materials": np.array([[s["material"], s["other_material"]] for s in self.surfaces],
+                                              dtype=np.int32).reshape(-1, 2),
+                "surface_faces": np.concatenate(faces).astype(np.int64) if faces else np.zeros((0, 3), np.int64)}
+
+    @staticmethod
+    def surfaces_from_arrays(arrays):
+        """Result.surfaces from surface_arrays' arrays."""
+        faces = arrays["surface_faces"]
+        return [{"name": str(name), "material": int(m[0]), "other_material": int(m[1]),
+                 "faces": faces[faces[:, 0] == i, 1:]}
+                for i, (name, m) in enumerate(zip(arrays["surface_names"], arrays["surface_materials"]))]
 
     def __repr__(self):
         return "<oraclemesh.Result %d points, %d tets>" % (len(self.points), len(self.tets))
@@ -193,7 +219,9 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
             raise Cancelled("meshing was cancelled")
         if code == 0:
             with np_load(result_path) as arrays:
-                return Result({name: arrays[name] for name in Result.ARRAYS + ("report",)})
+                result = Result({name: arrays[name] for name in Result.ARRAYS + ("report",)})
+                result.surfaces = Result.surfaces_from_arrays(arrays)
+                return result
         if os.path.exists(result_path + ".error.json"):
             with open(result_path + ".error.json") as f:
                 error = json.load(f)
@@ -221,8 +249,7 @@ def _array_as_list(value):
 
 
 def np_load(path):
-    import numpy
-    return numpy.load(path, allow_pickle=False)
+    return np.load(path, allow_pickle=False)
 
 
 def _with_absolute_paths(job, base):

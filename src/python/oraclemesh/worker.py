@@ -63,7 +63,7 @@ def main(job_path, result_path):
             json.dump({"type": type(e).__name__, "message": str(e)}, f)
         return 2
     np.savez(result_path, report=np.array(json.dumps(result.report)),
-             **{name: getattr(result, name) for name in oraclemesh.Result.ARRAYS})
+             **{name: getattr(result, name) for name in oraclemesh.Result.ARRAYS}, **result.surface_arrays())
     return 0
 
 
