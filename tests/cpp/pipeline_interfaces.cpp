@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -16,6 +17,7 @@
 #include "demo_assembly_job.h"
 #include "job/Pipeline.h"
 #include "mesh/Surfaces.h"
+#include "mesh/Writers.h"
 #include "occt_checks.h"
 
 namespace oraclemesh {
@@ -130,8 +132,20 @@ const json* interfaceBetween(const json& report, const std::string& a, const std
 }
 
 JobResult runWithInp(json job, const std::string& inp) {
-  job["output"] = {{"files", {inp}}};
+  job["output"] = {{"files", {inp, inp.substr(0, inp.size() - 4) + ".vtu"}}};
   return runJob(JobSpec::fromJson(job, ""), RunControl());
+}
+
+// The numbers of the ASCII DataArray or Array named `name` in a VTU file's text.
+std::vector<double> vtuArray(const std::string& text, const std::string& name) {
+  const size_t at = text.find("Name=\"" + name + "\"");
+  EXPECT_NE(at, std::string::npos) << name;
+  std::vector<double> values;
+  if (at == std::string::npos) return values;
+  const size_t begin = text.find('>', at) + 1, end = text.find("</", begin);
+  std::istringstream numbers(text.substr(begin, end - begin));
+  for (double v; numbers >> v;) values.push_back(v);
+  return values;
 }
 
 std::string tempPath(const std::string& name) { return (std::filesystem::temp_directory_path() / name).string(); }
@@ -177,7 +191,29 @@ TEST(Interfaces, TwoBoxesShareTheirContactRectangle) {
     EXPECT_EQ(exterior.centroids.size(), e["triangles"].get<size_t>());
     EXPECT_NEAR(exterior.area, e["area"].get<double>(), 1e-9 * e["area"].get<double>());
   }
-  std::filesystem::remove(inp);
+
+  // The VTU's surfaces file: the same triangles, selectable by "surface", named in field data.
+  const std::string vtu = tempPath("oraclemesh_interfaces_boxes.vtu");
+  std::ifstream file(surfacesVtuPath(vtu));
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::vector<double> points = vtuArray(text, "Points"), cells = vtuArray(text, "connectivity"),
+                            surface = vtuArray(text, "surface");
+  EXPECT_NE(text.find("<!-- surface 1: Interface_Lower_Upper -->"), std::string::npos);
+  ASSERT_EQ(cells.size(), 3 * surface.size());
+  double vtuArea = 0;
+  size_t vtuTriangles = 0;
+  for (size_t i = 0; i < surface.size(); ++i) {
+    if (surface[i] != 1) continue;
+    Point3 p[3];
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) p[k][d] = points[3 * static_cast<size_t>(cells[3 * i + k]) + d];
+    const Point3 n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+    vtuArea += 0.5 * std::sqrt(dot(n, n));
+    ++vtuTriangles;
+  }
+  EXPECT_EQ(vtuTriangles, (*contact)["triangles"].get<size_t>());
+  EXPECT_NEAR(vtuArea, 36.0, 36.0 * 1e-9);
+  for (const std::string& path : {inp, vtu, surfacesVtuPath(vtu)}) std::filesystem::remove(path);
 }
 
 // The demo's pin (radius 5) through the plate (10 thick): their interface is the pin's
@@ -205,7 +241,8 @@ TEST(Interfaces, DemoPinInPlateInterfaceIsTheCylinderInsideThePlate) {
   for (const json& e : report["exteriors"])
     EXPECT_EQ(checkSurface(deck, e["name"], {e["material"].get<int>()}).centroids.size(),
               e["triangles"].get<size_t>());
-  std::filesystem::remove(inp);
+  const std::string vtu = tempPath("oraclemesh_interfaces_demo.vtu");
+  for (const std::string& path : {inp, vtu, surfacesVtuPath(vtu)}) std::filesystem::remove(path);
 }
 
 TEST(Interfaces, NamesAreInpLegal) {

@@ -68,3 +68,21 @@ def test_run_isolated_hands_over_the_same_surfaces():
     for a, b in zip(here.surfaces, there.surfaces):
         assert (a["material"], a["other_material"]) == (b["material"], b["other_material"])
         assert np.array_equal(a["faces"], b["faces"])
+
+
+def test_vtu_surfaces_file_reads_in_meshio(tmp_path):
+    """The VTU's *_surfaces.vtu (tet10: 6-node triangles) as meshio, and so ParaView, reads it."""
+    import meshio
+    job = two_boxes_job()
+    job["output"] = {"files": [str(tmp_path / "mesh.vtu")]}
+    result = oraclemesh.run(job)
+    surfaces = meshio.read(str(tmp_path / "mesh_surfaces.vtu"))
+    assert [c.type for c in surfaces.cells] == ["triangle6"]
+    index = surfaces.cell_data["surface"][0]
+    for i, s in enumerate(result.surfaces):
+        assert (index == i).sum() == len(s["faces"]), s["name"]
+    # Corners as the hand-off's faces, mid nodes those of the tets' edges.
+    corners = face_corners(result, np.concatenate([s["faces"] for s in result.surfaces]))
+    assert np.array_equal(surfaces.cells[0].data[:, :3], corners)
+    text = (tmp_path / "mesh_surfaces.vtu").read_text()
+    assert all("<!-- surface %d: %s -->" % (i, s["name"]) in text for i, s in enumerate(result.surfaces))

@@ -56,6 +56,8 @@ class OutputFile {
 
 constexpr int kVtkTetra = 10;
 constexpr int kVtkQuadraticTetra = 24;
+constexpr int kVtkTriangle = 5;
+constexpr int kVtkQuadraticTriangle = 22;
 
 // CalculiX reads each *NODE coordinate from the first 20 characters of its field (Fortran
 // format f20.0) and stops with "*ERROR reading *NODE" on a longer one, such as %.17g of
@@ -115,7 +117,89 @@ void requireFinitePoints(const TetMesh& mesh, const std::string& path) {
 
 }  // namespace
 
-void writeVtu(const std::string& path, const TetMesh& mesh) {
+std::string surfacesVtuPath(const std::string& vtuPath) {
+  return vtuPath.substr(0, vtuPath.size() - lowerCaseExtension(vtuPath).size()) + "_surfaces.vtu";
+}
+
+namespace {
+
+// The points of a VTU piece; both VTU files share them.
+void printVtuPoints(OutputFile& out, const TetMesh& mesh) {
+  out.print("      <Points>\n");
+  out.print("        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+  for (const Point3& p : mesh.points) out.print("%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+  out.print("        </DataArray>\n");
+  out.print("      </Points>\n");
+}
+
+// After the connectivity: offsets and types of `cells` cells of one type, and the file's end.
+void printVtuCellsEnd(OutputFile& out, size_t cells, int nodesPerCell, int cellType) {
+  out.print("        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  for (size_t i = 1; i <= cells; ++i) out.print("%lld\n", static_cast<long long>(i * nodesPerCell));
+  out.print("        </DataArray>\n");
+  out.print("        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  for (size_t i = 0; i < cells; ++i) out.print("%d\n", cellType);
+  out.print("        </DataArray>\n");
+  out.print("      </Cells>\n");
+  out.print("    </Piece>\n");
+  out.print("  </UnstructuredGrid>\n");
+  out.print("</VTKFile>\n");
+}
+
+// The interfaces and exteriors as triangles (quadratic for tet10) over the same points as the
+// volume file: ParaView shows faces only as cells of their own, and a file of its own keeps
+// the volume file's cells the tets alone (what meshio users and the tests read).
+
+void writeSurfacesVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
+  const std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
+  // Mid-node column of TetMesh::tet_mid_nodes for the edge between two corners.
+  auto midColumn = [](int a, int b) {
+    static constexpr int kColumn[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
+    return kColumn[a][b];
+  };
+  const int nodesPerCell = mesh.order() == 2 ? 6 : 3;
+  size_t cells = 0;
+  for (const MeshSurface& s : surfaces) cells += s.faces.size();
+  OutputFile out(path);
+  out.print("<?xml version=\"1.0\"?>\n");
+  out.print("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n");
+  out.print("  <UnstructuredGrid>\n");
+  // The names as a comment, not a VTK string array: meshio (and so many users' scripts) reject
+  // String arrays, and the index in "surface" is all ParaView needs to select one.
+  for (size_t i = 0; i < surfaces.size(); ++i)
+    out.print("  <!-- surface %zu: %s -->\n", i, surfaceName(names, surfaces[i]).c_str());
+  out.print("    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", mesh.points.size(), cells);
+  out.print("      <CellData>\n");
+  const char* arrays[3] = {"surface", "material", "other_material"};
+  for (int a = 0; a < 3; ++a) {
+    out.print("        <DataArray type=\"Int32\" Name=\"%s\" format=\"ascii\">\n", arrays[a]);
+    for (size_t i = 0; i < surfaces.size(); ++i) {
+      const int value = a == 0 ? static_cast<int>(i) : a == 1 ? surfaces[i].material : surfaces[i].other_material;
+      for (size_t k = 0; k < surfaces[i].faces.size(); ++k) out.print("%d\n", value);
+    }
+    out.print("        </DataArray>\n");
+  }
+  out.print("      </CellData>\n");
+  printVtuPoints(out, mesh);
+  out.print("      <Cells>\n");
+  out.print("        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  for (const MeshSurface& s : surfaces)
+    for (const ElementFace& f : s.faces) {
+      const std::array<int, 3>& c = kCalculixTetFaces[f.face];
+      const auto& tet = mesh.tets[f.tet];
+      out.print("%lld %lld %lld", static_cast<long long>(tet[c[0]]), static_cast<long long>(tet[c[1]]),
+                static_cast<long long>(tet[c[2]]));
+      if (mesh.order() == 2)
+        for (int e = 0; e < 3; ++e)
+          out.print(" %lld", static_cast<long long>(mesh.tet_mid_nodes[f.tet][midColumn(c[e], c[(e + 1) % 3])]));
+      out.print("\n");
+    }
+  out.print("        </DataArray>\n");
+  printVtuCellsEnd(out, cells, nodesPerCell, mesh.order() == 2 ? kVtkQuadraticTriangle : kVtkTriangle);
+  out.close();
+}
+
+void writeTetsVtu(const std::string& path, const TetMesh& mesh) {
   requireConsistentIndices(mesh);
   requireFinitePoints(mesh, path);
   const int nodesPerCell = mesh.order() == 2 ? 10 : 4;
@@ -139,11 +223,7 @@ void writeVtu(const std::string& path, const TetMesh& mesh) {
   out.print("        </DataArray>\n");
   out.print("      </CellData>\n");
 
-  out.print("      <Points>\n");
-  out.print("        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-  for (const Point3& p : mesh.points) out.print("%.17g %.17g %.17g\n", p[0], p[1], p[2]);
-  out.print("        </DataArray>\n");
-  out.print("      </Points>\n");
+  printVtuPoints(out, mesh);
 
   out.print("      <Cells>\n");
   out.print("        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
@@ -153,18 +233,15 @@ void writeVtu(const std::string& path, const TetMesh& mesh) {
       out.print(i + 1 < nodes.count ? "%lld " : "%lld\n", static_cast<long long>(nodes.index[i]));
   }
   out.print("        </DataArray>\n");
-  out.print("        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-    out.print("%lld\n", static_cast<long long>((t + 1) * nodesPerCell));
-  out.print("        </DataArray>\n");
-  out.print("        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-  for (size_t t = 0; t < mesh.tets.size(); ++t) out.print("%d\n", cellType);
-  out.print("        </DataArray>\n");
-  out.print("      </Cells>\n");
-  out.print("    </Piece>\n");
-  out.print("  </UnstructuredGrid>\n");
-  out.print("</VTKFile>\n");
+  printVtuCellsEnd(out, mesh.tets.size(), nodesPerCell, cellType);
   out.close();
+}
+
+}  // namespace
+
+void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
+  writeTetsVtu(path, mesh);
+  writeSurfacesVtu(surfacesVtuPath(path), mesh, names);
 }
 
 void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
@@ -215,7 +292,7 @@ std::string meshFileFormatProblem(const std::string& path) {
 
 void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
   const std::string ext = lowerCaseExtension(path);
-  if (ext == ".vtu") return writeVtu(path, mesh);
+  if (ext == ".vtu") return writeVtu(path, mesh, names);
   if (ext == ".inp") return writeInp(path, mesh, names);
   throw InputError("cannot write the mesh file '" + path + "': " + meshFileFormatProblem(path));
 }

@@ -13,7 +13,15 @@ namespace oraclemesh {
 // VTK XML unstructured grid, ASCII (ParaView, meshio). Cells are VTK_TETRA (10) or
 // VTK_QUADRATIC_TETRA (24, node order = TetMesh's: corners, then mid nodes 01,12,20,03,13,23).
 // Cell data "material" (Int32); point data "vertex_dimension" (Int32) when the mesh has it.
-void writeVtu(const std::string& path, const TetMesh& mesh);
+// Beside it, surfacesVtuPath(path): the interfaces and exteriors (meshSurfaces) as VTK_TRIANGLE
+// (5) or VTK_QUADRATIC_TRIANGLE (22) cells over the same points, cell data "surface" (index
+// in meshSurfaces' order, each index named in a "<!-- surface i: name -->" line at the top,
+// names as the INP's *SURFACE), "material" and "other_material" (0 = exterior); ParaView:
+// Threshold on "surface", or on material / other_material for one part's faces.
+void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
+
+// "<path without its extension>_surfaces.vtu".
+std::string surfacesVtuPath(const std::string& vtuPath);
 
 // Abaqus / CalculiX input deck: *NODE (NSET=Nall), then one *ELEMENT block per material with
 // ELSET=Material<id>, TYPE=C3D4 or C3D10, and *ELSET Eall naming every element. Node ids are
