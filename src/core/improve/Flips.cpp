@@ -37,6 +37,33 @@ double minDihedral(const std::vector<Point3>& p, const Tet& t) {
 }
 
 
+// Circumradius and radius-edge ratio, so a flip can be held to the worst of what it replaces:
+// cells that met the engine's size and shape criteria still meet them afterwards.
+struct Shape {
+  double radius = 0, ratio = 0;
+};
+
+Shape shape(const std::vector<Point3>& p, const Tet& t) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, distance(p[t[i]], p[t[j]]));
+  const double ratio = radiusEdgeRatio(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+  return {ratio * shortest, ratio};
+}
+
+bool withinWorstOf(const std::vector<Point3>& p, const std::vector<Tet>& made, const std::vector<Tet>& old) {
+  Shape worst;
+  for (const Tet& t : old) {
+    const Shape s = shape(p, t);
+    worst = {std::max(worst.radius, s.radius), std::max(worst.ratio, s.ratio)};
+  }
+  for (const Tet& t : made) {
+    const Shape s = shape(p, t);
+    if (!(s.radius <= worst.radius && s.ratio <= worst.ratio)) return false;
+  }
+  return true;
+}
+
 struct Pass {
   TetMesh& mesh;
   std::set<Face> protected_faces;
@@ -64,6 +91,12 @@ struct Pass {
     for (size_t t : tets)
       if (touched[t] || mesh.tet_materials[t] != material) return false;
     return true;
+  }
+
+  bool keepsCriteria(const std::vector<size_t>& old, const std::vector<Tet>& made) const {
+    std::vector<Tet> replaced;
+    for (size_t t : old) replaced.push_back(mesh.tets[t]);
+    return withinWorstOf(mesh.points, made, replaced);
   }
 
   void commit(const std::vector<size_t>& old, const std::vector<Tet>& made, int material) {
@@ -100,7 +133,7 @@ struct Pass {
       if (first == CGAL::NEGATIVE) std::swap(t[0], t[1]);
       after = std::min(after, minDihedral(mesh.points, t));
     }
-    if (!(after > before)) return false;
+    if (!(after > before) || !keepsCriteria(it->second, made)) return false;
     commit(it->second, made, material);
     ++stats.flips23;
     return true;
@@ -136,7 +169,7 @@ struct Pass {
     std::swap((o0 == CGAL::NEGATIVE ? made[0] : made[1])[0], (o0 == CGAL::NEGATIVE ? made[0] : made[1])[1]);
     double after = std::numeric_limits<double>::infinity();
     for (const Tet& t : made) after = std::min(after, minDihedral(mesh.points, t));
-    if (!(after > before)) return false;
+    if (!(after > before) || !keepsCriteria(it->second, made)) return false;
     commit(it->second, made, material);
     ++stats.flips32;
     return true;
