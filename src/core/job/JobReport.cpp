@@ -273,6 +273,11 @@ json reportJson(const JobReport& r) {
   report["small_input_angle_limit_deg"] = r.small_input_angle_limit_deg;
   report["seeds_on_boundary"] = r.engine_run.seeds_on_boundary;
   report["boundary_snap"] = boundarySnapJson(r.boundary_snap, r.bbox_diagonal);
+  report["improve"] = {{"min_dihedral_before_deg", r.improve.min_dihedral_before},
+                       {"min_dihedral_after_deg", r.improve.min_dihedral_after},
+                       {"flips23", r.improve.flips23},
+                       {"flips32", r.improve.flips32},
+                       {"passes", r.improve.passes}};
   report["element_order"] = r.element_order;
   if (r.element_order == 2) report["second_order_straight_fallbacks"] = r.second_order_straight_fallbacks;
   report["bbox_diagonal"] = r.bbox_diagonal;

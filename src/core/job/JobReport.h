@@ -17,6 +17,7 @@
 #include "features/InputAngles.h"
 #include "job/JobSpec.h"
 #include "job/MeshSelfCheck.h"
+#include "improve/Flips.h"
 #include "mesh/BoundarySnap.h"
 #include "mesh/Quality.h"
 #include "mesh/Surfaces.h"
@@ -104,6 +105,7 @@ struct JobReport {
   double small_input_angle_limit_deg = 0;
   EngineReport engine_run;
   SnapReport boundary_snap;
+  FlipStats improve;  // the flips after the snap, before second order
   int element_order = 2;
   int64_t second_order_straight_fallbacks = 0;  // element_order 2 only
   MeshCounts counts;

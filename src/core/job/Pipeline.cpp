@@ -72,6 +72,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.boundary_snap.statistics = snap.statistics;
   clock.finish("snap");
 
+  // After the snap (which moves vertices) and before mid nodes are placed on the final topology.
+  control.report("improve", 0);
+  report.improve = improveByFlips(mesh);
+  clock.finish("improve");
+
   if (job.element_order == 2) {
     control.report("second order", 0);
     report.second_order_straight_fallbacks = makeSecondOrderOnGeometry(mesh, oracle, features.curves, snap.vertex_entry);
