@@ -78,11 +78,8 @@ def test_macro_makes_the_same_mesh(presse):
     assert len(macro["groups"]) == 2 and sum(macro["groups"].values()) == macro["mesh"]["volumes"]
 
 
-# Known failure: at the defaults the core still returns a few flat tetrahedra (dihedral angles
-# down to 1e-8 degrees, signed volume ~1e-13 of the median) and CalculiX stops on them with
-# "nonpositive jacobian"; raising the minimum angle is the mesh improvement stage's job
-# (issue 15). Strict, so the test says so when that lands.
-@pytest.mark.xfail(strict=True, reason="flat tetrahedra at the defaults: CalculiX 'nonpositive jacobian' (issue 15)")
+# The presse mesh still has tets flat to 1e-8 degrees; CalculiX refuses one whose printed
+# coordinates turn it over ("nonpositive jacobian"). tests/bench/inp_orientation.py lists them.
 def test_calculix_solves_the_macro_analysis(presse):
     macro = presse["macro"]
     assert "error" not in macro, macro.get("error")
