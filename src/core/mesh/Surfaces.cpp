@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <unordered_map>
 
 #include "mesh/Topology.h"
 
@@ -11,18 +10,9 @@ namespace oraclemesh {
 
 namespace {
 
-struct FaceKey {
-  std::array<int64_t, 3> v;
-  bool operator==(const FaceKey& o) const { return v == o.v; }
-};
-
-struct FaceKeyHash {
-  size_t operator()(const FaceKey& k) const {
-    uint64_t h = 1469598103934665603ull;
-    for (int64_t x : k.v) h = (h ^ static_cast<uint64_t>(x)) * 1099511628211ull;
-    return static_cast<size_t>(h);
-  }
-};
+// CalculiX label (0..3 = S1..S4) of the face opposite each corner: S1 = 1-2-3 is opposite
+// corner 4, S2 = 1-4-2 opposite 3, S3 = 2-4-3 opposite 1, S4 = 3-4-1 opposite 2.
+constexpr int kLabelOfFaceOpposite[4] = {2, 3, 1, 0};
 
 double triangleArea(const TetMesh& mesh, const ElementFace& f) {
   const auto& tet = mesh.tets[f.tet];
@@ -38,47 +28,19 @@ double triangleArea(const TetMesh& mesh, const ElementFace& f) {
 }  // namespace
 
 std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh) {
-  requireConsistentIndices(mesh);
-  // Up to two (tet, face) per sorted corner triple; a third one makes the face invalid
-  // (checkConformity counts it) and it is left out, as extractBoundary does.
-  struct Sides {
-    ElementFace first, second;
-    int count = 0;
-  };
-  std::unordered_map<FaceKey, Sides, FaceKeyHash> faces;
-  faces.reserve(mesh.tets.size() * 2 + 16);
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int f = 0; f < 4; ++f) {
-      FaceKey key;
-      for (int i = 0; i < 3; ++i) key.v[i] = mesh.tets[t][kCalculixTetFaces[f][i]];
-      std::sort(key.v.begin(), key.v.end());
-      Sides& s = faces[key];
-      (s.count == 0 ? s.first : s.second) = {static_cast<int64_t>(t), f};
-      ++s.count;
-    }
-
+  // The boundary as extractBoundary sees it: an interface's faces come from the smaller
+  // material's tet, faces shared by more than two tets are left out (checkConformity counts them).
   std::map<std::pair<int, int>, MeshSurface> byPair;
-  auto add = [&](const ElementFace& face, int other) {
+  for (const BoundaryFace& face : boundaryElementFaces(mesh)) {
     const int material = mesh.tet_materials[face.tet];
-    MeshSurface& s = byPair[{material, other}];
+    MeshSurface& s = byPair[{material, face.material_out}];
     s.material = material;
-    s.other_material = other;
-    s.faces.push_back(face);
-  };
-  for (const auto& [key, s] : faces) {
-    if (s.count == 1) {
-      add(s.first, 0);
-    } else if (s.count == 2) {
-      const int a = mesh.tet_materials[s.first.tet], b = mesh.tet_materials[s.second.tet];
-      if (a == b) continue;
-      // Taken from the smaller material's tet, as extractBoundary orients interfaces.
-      if (a < b) add(s.first, b);
-      else add(s.second, a);
-    }
+    s.other_material = face.material_out;
+    s.faces.push_back({face.tet, kLabelOfFaceOpposite[face.opposite_corner]});
   }
   std::vector<MeshSurface> result;
   for (auto& [pair, s] : byPair) {
-    // The hash map's order is not deterministic; files and reports must be.
+    // By element, as solvers list them.
     std::sort(s.faces.begin(), s.faces.end(),
               [](const ElementFace& x, const ElementFace& y) { return x.tet != y.tet ? x.tet < y.tet : x.face < y.face; });
     for (const ElementFace& f : s.faces) s.area += triangleArea(mesh, f);

@@ -195,19 +195,26 @@ std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
   return components;
 }
 
-std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh) {
+std::vector<BoundaryFace> boundaryElementFaces(const TetMesh& mesh) {
   requireConsistentIndices(mesh);
-  std::vector<BoundaryTriangle> boundary;
+  std::vector<BoundaryFace> boundary;
   for (const FaceRecord& face : buildFaceTable(mesh)) {
     if (face.tet_count == 1) {
-      boundary.push_back(triangleOf(mesh, face.tets[0], face.local_face[0], 0));
+      boundary.push_back({face.tets[0], face.local_face[0], 0});
     } else if (face.tet_count == 2) {
       const int m0 = mesh.tet_materials[face.tets[0]], m1 = mesh.tet_materials[face.tets[1]];
       if (m0 == m1) continue;
       const int side = m0 < m1 ? 0 : 1;  // the smaller material id is the inside
-      boundary.push_back(triangleOf(mesh, face.tets[side], face.local_face[side], std::max(m0, m1)));
+      boundary.push_back({face.tets[side], face.local_face[side], std::max(m0, m1)});
     }
   }
+  return boundary;
+}
+
+std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh) {
+  std::vector<BoundaryTriangle> boundary;
+  for (const BoundaryFace& face : boundaryElementFaces(mesh))
+    boundary.push_back(triangleOf(mesh, face.tet, face.opposite_corner, face.material_out));
   return boundary;
 }
 

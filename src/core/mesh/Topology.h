@@ -43,6 +43,15 @@ void requireFeatureEdgesInTets(const TetMesh& mesh);
 //    checkConformity counts them.
 std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh);
 
+// extractBoundary's faces, in its order, as element faces: the tet each is taken from and the
+// corner of that tet the face is opposite to (for writers that name faces per element).
+struct BoundaryFace {
+  int64_t tet = 0;
+  int opposite_corner = 0;
+  int material_out = 0;  // 0 = outside the domain
+};
+std::vector<BoundaryFace> boundaryElementFaces(const TetMesh& mesh);
+
 struct ConformityReport {
   int64_t faces_shared_by_more_than_two = 0;
   // Edges of one material's boundary used by an odd number of that material's boundary
