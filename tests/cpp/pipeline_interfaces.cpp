@@ -251,5 +251,28 @@ TEST(Interfaces, NamesAreInpLegal) {
   EXPECT_EQ(inpName(std::string(100, 'a')).size(), 80u);
 }
 
+// "Part a" and "Part_A" clean to names CalculiX takes for one; so do two long names that
+// differ only after 80 characters. Each surface still gets a name of its own.
+TEST(Interfaces, SurfaceNamesAreUniqueIgnoringCase) {
+  const std::string longName(90, 'x');
+  const MaterialNames names = {{1, "Part a"}, {2, "Part_A"}, {3, longName + "1"}, {4, longName + "2"}};
+  std::vector<MeshSurface> surfaces;
+  for (int m = 1; m <= 4; ++m) surfaces.push_back({m, 0, {}, 0});
+  surfaces.push_back({1, 2, {}, 0});
+  const std::vector<std::string> unique = surfaceNames(names, surfaces);
+  ASSERT_EQ(unique.size(), surfaces.size());
+  EXPECT_EQ(unique[0], "Exterior_Part_a");
+  EXPECT_EQ(unique[1], "Exterior_Part_A_2");
+  EXPECT_EQ(unique[2], inpName("Exterior_" + longName));
+  EXPECT_EQ(unique[3], unique[2].substr(0, 78) + "_2");
+  EXPECT_EQ(unique[4], "Interface_Part_a_Part_A");
+  std::set<std::string> upper;
+  for (std::string name : unique) {
+    EXPECT_LE(name.size(), kMaxInpNameLength);
+    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    EXPECT_TRUE(upper.insert(name).second) << name;
+  }
+}
+
 }  // namespace
 }  // namespace oraclemesh

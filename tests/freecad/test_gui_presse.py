@@ -56,6 +56,18 @@ def test_imported_assembly_hand_off_at_defaults(presse):
                                    presse["quality"]["max_dihedral_deg"], presse["final_check"]))
 
 
+def test_interfaces_are_the_common_faces_of_the_parts(presse):
+    # Issue 19: each interface of the imported assembly at the defaults is a Face group of the
+    # FemMesh whose area is within 1 % of OpenCASCADE's (the higher-priority part's faces inside
+    # or on the other part: common faces where parts touch, the overlap's wall where they do not).
+    areas = presse["interface_areas"]
+    print("interfaces (mesh, OpenCASCADE) mm^2:", areas)
+    assert len(areas) >= 12, areas  # 12 part pairs touch or overlap in presse_asm.step
+    off = {name: (mesh, occt) for name, (mesh, occt) in areas.items()
+           if mesh is None or abs(mesh - occt) > 0.01 * occt}
+    assert not off, off
+
+
 def test_screenshot_shows_the_part_colours_without_highlight(presse):
     assert os.path.getsize(presse["screenshot"]) > 10000
     assert presse["palette_size"] >= 16

@@ -1,4 +1,5 @@
 """FEM hand-off: groups, orientation, constraint node search, curved faces, save/reopen."""
+import math
 
 
 def test_fem_handoff_demo_assembly(run_freecad):
@@ -27,12 +28,27 @@ def test_fem_handoff_demo_assembly(run_freecad):
     for group, part in r["groups_expected"].items():
         expected = r["volume_expected"][part]
         assert abs(r["volume"][group] - expected) < 0.005 * expected, (group, r["volume"][group], expected)
+    # Every interface and exterior of the core's report is a Face group of the FemMesh: one tri6
+    # per reported triangle, each the face of a tet10 of its part with the same mid nodes, its
+    # normal out of that tet; the same area (flat corner triangles, as the report measures).
+    faces = dict(r["face_groups"])
+    names = faces.pop("_reported_names")
+    assert sorted(faces) == names == ["Exterior_Pin", "Exterior_Plate", "Interface_Pin_Plate"], names
+    for name, f in faces.items():
+        assert f["nodes_per_face"] == [6], (name, f)
+        assert f["faces"] == f["reported_triangles"] > 20, (name, f)
+        assert f["on_own_volume"] == f["outward"] == f["faces"], (name, f)
+        assert abs(f["area"] - f["reported_area"]) < 1e-9 * f["reported_area"], (name, f)
+    # The pin's cylinder inside the plate (2 pi r t), from the tri6 faces' mid nodes on it.
+    interface = faces["Interface_Pin_Plate"]["curved_area"]
+    assert abs(interface - 2 * math.pi * 5 * 10) < 0.005 * 2 * math.pi * 5 * 10, interface
     # Save + reopen keeps the object, its links and the groups; no re-mesh is pending.
     reopened = r["reopened"]
     assert reopened["proxy"] == "OracleMeshProxy"
     assert reopened["inputs"] == ["Pin", "Plate"] and reopened["cuts"] == ["CutBox"]
     assert reopened["volumes"] == mesh["volumes"]
     assert reopened["groups"] == sorted(r["groups_expected"])
+    assert reopened["face_groups"] == r["face_groups"]["_reported_names"]
     assert not reopened["touched"]
     # A changed input asks for a recompute without remeshing; the recompute meshes the new pin.
     changed = r["after_input_change"]

@@ -51,14 +51,18 @@ def to_freecad_order(points, tets):
     return tets[:, CORE_TO_FREECAD[tets.shape[1]]]
 
 
-def build_femmesh(points, tets, tet_materials, groups):
+def build_femmesh(points, tets, tet_materials, groups, surfaces=()):
     """Build a Fem.FemMesh from arrays in the core's convention.
 
     points (n, 3), tets (m, 4|10) 0-based, tet_materials (m,) material ids.
     groups: list of (group_name, material_ids); every material id present in tet_materials
     must be in exactly one group, so the groups cover every volume once (FreeCAD's CalculiX
     writer only trusts group data when the element counts add up to the volume count).
-    Node ids are 1..n and element ids 1..m in the order of the arrays.
+    surfaces: list of (surface_name, faces (f, 2) = (tet index, CalculiX face 0..3)), the
+    core's Result.surfaces; each becomes face elements (tri3 or tri6, see surface_face_nodes)
+    and a Face group of that name.
+    Node ids are 1..n, volume ids 1..m in the order of the arrays, face ids m+1.. in the
+    order of the surfaces.
     """
     import Fem  # FreeCAD module; imported here so the numpy part is usable without FreeCAD
 
@@ -92,7 +96,44 @@ def build_femmesh(points, tets, tet_materials, groups):
             continue  # a material that lost every tet (covered by higher priorities / cut)
         gid = mesh.addGroup(name, "Volume")
         mesh.addGroupElements(gid, members.tolist())
+
+    # FreeCAD draws a mesh's face elements only when it has no volumes, so these change
+    # nothing on screen; they are there to be selected, exported and referred to.
+    face_id = len(fc_tets)
+    for name, faces in surfaces:
+        nodes = surface_face_nodes(tets, faces) + 1
+        ids = list(range(face_id + 1, face_id + len(nodes) + 1))
+        for fid, face in zip(ids, nodes.tolist()):
+            mesh.addFace(face, fid)
+        face_id += len(nodes)
+        gid = mesh.addGroup(name, "Face")
+        mesh.addGroupElements(gid, ids)
     return mesh
+
+
+# Corners of the CalculiX faces S1..S4 (012, 031, 132, 230) in reverse, so that the face's
+# right-hand normal points out of its tet: for a part's exterior, out of the part.
+OUTWARD_FACE_CORNERS = ((0, 2, 1), (0, 1, 3), (1, 2, 3), (2, 0, 3))
+
+
+def surface_face_nodes(tets, faces):
+    """Core node indices of element faces [(tet, CalculiX face 0..3)] as FreeCAD face
+    elements: (f, 3) corners, or for tet10 (f, 6) corners then the mid nodes of the edges
+    12, 23, 31 (SMESH's tri6 order); corners ordered so the normal points out of the tet."""
+    tets = np.asarray(tets, dtype=np.int64)
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 2)
+    if len(faces) and (faces[:, 1].min() < 0 or faces[:, 1].max() > 3
+                       or faces[:, 0].min() < 0 or faces[:, 0].max() >= len(tets)):
+        raise HandoffError("a surface face refers to no face of the mesh's tets")
+    mid_column = {frozenset(e): 4 + k for k, e in enumerate(MID_NODE_EDGES)}
+    columns = []
+    for corners in OUTWARD_FACE_CORNERS:
+        row = list(corners)
+        if tets.shape[1] == 10:
+            row += [mid_column[frozenset((corners[i], corners[(i + 1) % 3]))] for i in range(3)]
+        columns.append(row)
+    columns = np.array(columns, dtype=np.int64)
+    return tets[faces[:, 0][:, None], columns[faces[:, 1]]]
 
 
 # Tet10 corner pairs of the core's mid-node columns 4..9 (01, 12, 20, 03, 13, 23).

@@ -169,7 +169,8 @@ class OracleMeshProxy(StatelessProxy):
             kinds = input_kinds(obj)
             job, groups, described, polyline_names = build_job(obj)
             result = run_job(job, obj.Label)
-            femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups)
+            femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups,
+                                    [(s["name"], s["faces"]) for s in result.surfaces])
             outputs = mesh_outputs(result, groups, described, femmesh, time.time() - started)
         except Exception as e:
             # The core names extra edges by their place in the job: say which edge it is.
@@ -205,11 +206,13 @@ def mesh_outputs(result, groups, described, femmesh, wall_seconds):
     }
     edges = (result.feature_edges.reshape(-1) + 1).tolist()  # FemMesh ids
     mids = [m + 1 for m in feature_edge_mid_nodes(result.tets, result.feature_edges)]
-    status = "%d nodes, %d %s; groups: %s" % (
+    volume_groups = [g for g in femmesh.Groups if femmesh.getGroupElementType(g) == "Volume"]
+    status = "%d nodes, %d %s; groups: %s; %d face groups (interfaces and exteriors)" % (
         femmesh.NodeCount, femmesh.VolumeCount,
         "tet10" if result.tets.shape[1] == 10 else "tet4",
         ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
-                  for g in femmesh.Groups))
+                  for g in volume_groups),
+        len(femmesh.Groups) - len(volume_groups))
     return edges, mids, json.dumps(report, indent=1, sort_keys=True), status
 
 

@@ -221,8 +221,10 @@ MaterialNames partNames(const std::vector<InputReport>& inputs) {
 
 std::vector<SurfaceReport> describeSurfaces(const std::vector<MeshSurface>& surfaces, const MaterialNames& names) {
   std::vector<SurfaceReport> result;
-  for (const MeshSurface& s : surfaces)
-    result.push_back({s.material, s.other_material, surfaceName(names, s), s.area, s.faces.size()});
+  const std::vector<std::string> unique = surfaceNames(names, surfaces);
+  for (size_t i = 0; i < surfaces.size(); ++i)
+    result.push_back({surfaces[i].material, surfaces[i].other_material, unique[i], surfaces[i].area,
+                      surfaces[i].faces.size()});
   return result;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <set>
 
 #include "mesh/Topology.h"
 
@@ -58,13 +59,32 @@ std::string inpName(const std::string& text) {
   std::string name;
   for (unsigned char c : text) name += std::isalnum(c) && c < 128 ? static_cast<char>(c) : '_';
   if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) name = "S" + name;
-  return name.substr(0, 80);
+  return name.substr(0, kMaxInpNameLength);
 }
 
 std::string surfaceName(const MaterialNames& names, const MeshSurface& surface) {
   if (surface.other_material == 0) return inpName("Exterior_" + materialName(names, surface.material));
   return inpName("Interface_" + materialName(names, surface.material) + "_" +
                  materialName(names, surface.other_material));
+}
+
+std::vector<std::string> surfaceNames(const MaterialNames& names, const std::vector<MeshSurface>& surfaces) {
+  std::vector<std::string> result;
+  std::set<std::string> taken;  // upper case, as CalculiX compares names
+  auto upper = [](std::string text) {
+    for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return text;
+  };
+  for (const MeshSurface& surface : surfaces) {
+    const std::string base = surfaceName(names, surface);
+    std::string name = base;
+    for (int k = 2; !taken.insert(upper(name)).second; ++k) {
+      const std::string suffix = "_" + std::to_string(k);
+      name = base.substr(0, kMaxInpNameLength - suffix.size()) + suffix;
+    }
+    result.push_back(name);
+  }
+  return result;
 }
 
 }  // namespace oraclemesh

@@ -39,11 +39,19 @@ using MaterialNames = std::map<int, std::string>;
 
 std::string materialName(const MaterialNames& names, int material);
 
+inline constexpr size_t kMaxInpNameLength = 80;  // CalculiX' limit
+
 // A name solvers accept: letters, digits and '_' only (every other character becomes '_'),
-// starting with a letter, at most 80 characters (CalculiX' limit).
+// starting with a letter, at most kMaxInpNameLength characters.
 std::string inpName(const std::string& text);
 
 // "Interface_<part>_<part>" or "Exterior_<part>", in inpName's alphabet.
 std::string surfaceName(const MaterialNames& names, const MeshSurface& surface);
+
+// surfaceName of each surface, made unique: two parts can clean to the same name ("Bolt 1"
+// and "Bolt_1", or names cut at 80 characters), and CalculiX reads names without regard to
+// case, so a name already given (in any case) gets "_2", "_3", ... in the order of `surfaces`.
+// Every writer and the report use these, so a surface has one name everywhere.
+std::vector<std::string> surfaceNames(const MaterialNames& names, const std::vector<MeshSurface>& surfaces);
 
 }  // namespace oraclemesh

@@ -166,8 +166,9 @@ void writeSurfacesVtu(const std::string& path, const TetMesh& mesh, const Materi
   out.print("  <UnstructuredGrid>\n");
   // The names as a comment, not a VTK string array: meshio (and so many users' scripts) reject
   // String arrays, and the index in "surface" is all ParaView needs to select one.
+  const std::vector<std::string> surfaceNamesInOrder = surfaceNames(names, surfaces);
   for (size_t i = 0; i < surfaces.size(); ++i)
-    out.print("  <!-- surface %zu: %s -->\n", i, surfaceName(names, surfaces[i]).c_str());
+    out.print("  <!-- surface %zu: %s -->\n", i, surfaceNamesInOrder[i].c_str());
   out.print("    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", mesh.points.size(), cells);
   out.print("      <CellData>\n");
   const char* arrays[3] = {"surface", "material", "other_material"};
@@ -276,9 +277,12 @@ void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames&
   }
   // Loads, ties and contacts in CalculiX refer to element faces; these give users and the
   // workbench every interface and exterior by the parts' names.
-  for (const MeshSurface& surface : meshSurfaces(mesh)) {
-    out.print("*SURFACE, NAME=%s, TYPE=ELEMENT\n", surfaceName(names, surface).c_str());
-    for (const ElementFace& f : surface.faces) out.print("%lld, S%d\n", static_cast<long long>(f.tet + 1), f.face + 1);
+  const std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
+  const std::vector<std::string> surfaceNamesInOrder = surfaceNames(names, surfaces);
+  for (size_t i = 0; i < surfaces.size(); ++i) {
+    out.print("*SURFACE, NAME=%s, TYPE=ELEMENT\n", surfaceNamesInOrder[i].c_str());
+    for (const ElementFace& f : surfaces[i].faces)
+      out.print("%lld, S%d\n", static_cast<long long>(f.tet + 1), f.face + 1);
   }
   out.close();
 }

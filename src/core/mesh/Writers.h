@@ -31,7 +31,7 @@ std::string surfacesVtuPath(const std::string& vtuPath);
 // form is longer (e.g. 3.3333333333333337e-06) is rounded to the most digits that fit, at
 // least 14 significant ones (relative error <= 5e-14; 13 digits for |x| < 1e-99 or > 1e99).
 // Then one *SURFACE, TYPE=ELEMENT per interface and per part exterior (meshSurfaces), named
-// by surfaceName after the parts in `names`, as "element, S<n>" lines (kCalculixTetFaces).
+// by surfaceNames after the parts in `names`, as "element, S<n>" lines (kCalculixTetFaces).
 void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
 
 // Writes by file extension (case-insensitive): .vtu or .inp. Any other extension throws

@@ -6,6 +6,8 @@
             solids), select it, "Mesh selection with OracleMesh" at the defaults, Mesh; the
             hand-off's facts (tet10 in FreeCAD's orientation, a mid node on every feature
             edge, the core's final check)
+  interfaces  each Face group Interface_<a>_<b> of that mesh (curved tri6 area) against
+            OpenCASCADE: the area of part a's faces inside or on part b (a the higher priority)
   look      screenshot of the mesh: the part colours, no selection highlight
   rows      the panel's per-solid rows: a FEM material on one solid, a name on another, one
             moved to the top, the compound treated as one input and split again
@@ -26,7 +28,7 @@ STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from gui_script import main, pump, step  # noqa: E402
-from fc_harness import mesh_facts  # noqa: E402
+from fc_harness import face_group_area, mesh_facts  # noqa: E402
 
 
 def mesh_fingerprint(mesh_obj):
@@ -45,6 +47,30 @@ def groups(mesh_obj):
     fm = mesh_obj.FemMesh
     return {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups
             if fm.getGroupElementType(g) == "Volume"}
+
+
+def interface_areas(mesh_obj, report, job):
+    """{interface name: (mesh area, OpenCASCADE area)}: the second is the area of the
+    higher-priority part's faces that lie inside or on the other part (the core gives an
+    overlap to the part listed first, so its boundary there is the interface), from the very
+    B-rep the job hands the core."""
+    import Part
+    fm = mesh_obj.FemMesh
+    face_groups = {fm.getGroupName(g): g for g in fm.Groups if fm.getGroupElementType(g) == "Face"}
+    shapes = {}
+    for entry in job["inputs"]:
+        shape = Part.Shape()
+        shape.importBrepFromString(entry["brep"])
+        shapes[entry["name"]] = shape
+    areas = {}
+    for interface in report["interfaces"]:
+        high, low = interface["parts"]  # material ids follow the priority: the first is higher
+        box = shapes[low].BoundBox
+        box.enlarge(1e-3)
+        occt = sum(f.common(shapes[low]).Area for f in shapes[high].Faces if box.intersect(f.BoundBox))
+        group = face_groups.get(interface["name"])
+        areas[interface["name"]] = (face_group_area(fm, group) if group is not None else None, occt)
+    return areas
 
 
 def hue_pixels(path, colours, tolerance=6):
@@ -158,6 +184,9 @@ def check(out):
     report = json.loads(mesh.Report)
     out["final_check"] = report["thesis"]["final_check"]
     out["quality"] = report["quality"]
+
+    step("interfaces against OpenCASCADE")
+    out["interface_areas"] = interface_areas(mesh, report, build_job(mesh)[0])
 
     step("screenshot")
     pump(0.5)

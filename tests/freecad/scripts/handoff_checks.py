@@ -26,6 +26,65 @@ def build(doc):
     return pin, plate, cut
 
 
+# FreeCAD's tet10 faces (its node order): corners, then the mid nodes of their edges in turn.
+FREECAD_TET10_FACES = ((0, 1, 2, 4, 5, 6), (0, 1, 3, 4, 8, 7), (1, 2, 3, 5, 9, 8), (0, 2, 3, 6, 9, 7))
+
+
+def face_group_facts(fm, report, pin_group, plate_group):
+    """Each Face group of the mesh against the core's report: its name, triangle count and area,
+    whether every face element is a face of a volume of the right material group (corners and
+    mid nodes, so a tri6 is the tet10's own face), and whether its normal points out of that
+    volume."""
+    import numpy as np
+    nodes = fm.Nodes
+    group_of_volume = {}
+    for g in fm.Groups:
+        if fm.getGroupElementType(g) == "Volume":
+            for e in fm.getGroupElements(g):
+                group_of_volume[e] = fm.getGroupName(g)
+    volume_faces = {}  # sorted corner ids -> [(volume id, face nodes, opposite corner)]
+    for e in fm.Volumes:
+        ids = fm.getElementNodes(e)
+        for f in FREECAD_TET10_FACES:
+            corners = tuple(ids[i] for i in f[:3])
+            opposite = next(ids[i] for i in range(4) if i not in f[:3])
+            volume_faces.setdefault(tuple(sorted(corners)), []).append((e, [ids[i] for i in f], opposite))
+    part_group = {"Pin": pin_group, "Plate": plate_group}
+    reported = {s["name"]: s for s in report["interfaces"] + report["exteriors"]}
+    facts = {}
+    for g in fm.Groups:
+        if fm.getGroupElementType(g) != "Face":
+            continue
+        name = fm.getGroupName(g)
+        entry = reported.get(name, {})
+        side = part_group.get((entry.get("parts") or [entry.get("part")])[0])
+        area, on_own_volume, outward, nodes_per_face = 0.0, 0, 0, set()
+        for f in fm.getGroupElements(g):
+            ids = fm.getElementNodes(f)
+            nodes_per_face.add(len(ids))
+            p = np.array([tuple(nodes[i]) for i in ids[:3]])
+            normal = np.cross(p[1] - p[0], p[2] - p[0])
+            area += 0.5 * np.linalg.norm(normal)
+            for volume, face_nodes, opposite in volume_faces.get(tuple(sorted(ids[:3])), []):
+                if group_of_volume.get(volume) != side:
+                    continue
+                # Same corners; the mid nodes of a tri6 (12, 23, 31) must be the volume's own.
+                mids = {frozenset((face_nodes[a], face_nodes[(a + 1) % 3])): face_nodes[3 + a] for a in range(3)}
+                if len(ids) == 6 and any(mids[frozenset((ids[a], ids[(a + 1) % 3]))] != ids[3 + a]
+                                         for a in range(3)):
+                    continue
+                on_own_volume += 1
+                outward += int(np.dot(normal, np.array(tuple(nodes[opposite])) - p[0]) < 0)
+                break
+        facts[name] = {"faces": len(fm.getGroupElements(g)), "area": float(area),
+                       "curved_area": float(h.face_group_area(fm, g)),
+                       "on_own_volume": on_own_volume, "outward": outward,
+                       "nodes_per_face": sorted(nodes_per_face),
+                       "reported_triangles": entry.get("triangles"), "reported_area": entry.get("area")}
+    facts["_reported_names"] = sorted(reported)
+    return facts
+
+
 def check(params):
     import FreeCAD
     import ObjectsFem
@@ -88,6 +147,8 @@ def check(params):
         out["pin_lateral_boundary_faces"] = int(lateral.sum())
         out["pin_lateral_max_radius_error"] = float(np.abs(radius[lateral] - R).max())
 
+    out["face_groups"] = face_group_facts(fm, report, m_pin.Name + "_Volumes", m_plate.Name + "_Volumes")
+
     # Save, reopen: the proxy, properties and groups must survive.
     path = os.path.join(params["workdir"], "handoff.FCStd")
     doc.saveAs(path)
@@ -101,7 +162,8 @@ def check(params):
         "inputs": [o.Name for o in m2.Inputs],
         "cuts": [o.Name for o in m2.Cuts],
         "volumes": fm2.VolumeCount,
-        "groups": sorted(fm2.getGroupName(g) for g in fm2.Groups),
+        "groups": sorted(fm2.getGroupName(g) for g in fm2.Groups if fm2.getGroupElementType(g) == "Volume"),
+        "face_groups": sorted(fm2.getGroupName(g) for g in fm2.Groups if fm2.getGroupElementType(g) == "Face"),
         "touched": "Touched" in m2.State,
     }
 
@@ -129,7 +191,7 @@ def check(params):
     mesh3 = makeMesh(doc3, [pin3, plate3], cuts=[cut3], **params["mesh"])
     doc3.recompute()
     fm3 = mesh3.FemMesh
-    out["label_groups"] = sorted(fm3.getGroupName(g) for g in fm3.Groups)
+    out["label_groups"] = sorted(fm3.getGroupName(g) for g in fm3.Groups if fm3.getGroupElementType(g) == "Volume")
     return out
 
 
