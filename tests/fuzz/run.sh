@@ -3,9 +3,12 @@
 # (default 10) on its corpus in tests/fuzz/corpus/<target>/. Fails when a target crashes,
 # leaks, trips a sanitizer or lets an exception other than InputError escape; the input
 # that did it is left in the build folder (crash-*, printed). Add it to the target's corpus
-# (a regression input) once it is fixed.
+# (a regression input) once it is fixed. The brep and step targets run OpenCASCADE in the
+# helper oraclemesh-shape-reader built beside them: its crashes and hangs are contained (an
+# InputError), only the fuzzer's own process can fail. A seed on which OpenCASCADE hangs costs
+# the target's time limit (3 s) each run, so those targets start more slowly than the others.
 #   bash tests/fuzz/run.sh            every target briefly (tests/run.sh: 8 s each)
-#   bash tests/fuzz/run.sh 600 nrrd   a long run of one target
+#   bash tests/fuzz/run.sh 600 nrrd   a long run of one target (brep, step, job, stl, ...)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 seconds="${1:-10}"
