@@ -18,7 +18,8 @@
 
 namespace oraclemesh {
 
-BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name) : impl_(std::make_unique<Impl>()) {
+BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name, Tessellation tessellation)
+    : impl_(std::make_unique<Impl>()) {
   impl_->name = std::move(name);
   const std::string what = "input '" + impl_->name + "'";
   try {
@@ -32,7 +33,7 @@ BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name) : impl_(std::m
     impl_->classifyTolerance = 1e-9 * impl_->diagonal;
     impl_->volume = signedVolume(impl_->shape);
     impl_->index();
-    impl_->buildProxy();
+    impl_->buildProxy(tessellation == Tessellation::Make);
   } catch (const Standard_Failure& failure) {
     throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +
                      "): check it with Part > Check geometry and repair it");

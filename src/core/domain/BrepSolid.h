@@ -47,15 +47,20 @@ class BrepSolid : public Source, public BrepTopology {
                                  const RunControl& control, double progress);
   static Loaded loadBrepTextIsolated(const std::string& text, const std::string& name, Grouping grouping,
                                      const RunControl& control, double progress);
+  // Whether a new solid tessellates its shape (BRepMesh) or takes the triangles the shape
+  // carries: the helper process tessellates, and BRepMesh on a damaged shape can run away
+  // (fuzz_brep found one), so the caller must not run it again outside the helper. Faces
+  // that carry no triangles are answered by OpenCASCADE's exact queries either way.
+  enum class Tessellation { Make, Reuse };
   // `path` only names the file in messages.
   static Loaded load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
-                     const std::string& path = "");
+                     const std::string& path = "", Tessellation tessellation = Tessellation::Make);
   // All solids of the file or text as this one input; open shells beside solids are an error
   // here (there is nowhere to put the warning): use loadFile / loadBrepText to skip them.
   static std::shared_ptr<BrepSolid> fromFile(const std::string& path, const std::string& name);
   static std::shared_ptr<BrepSolid> fromBrepText(const std::string& text, const std::string& name);
   // Takes a shape holding one or more solids (or closed shells); every part must bound a volume.
-  BrepSolid(const TopoDS_Shape& shape, std::string name);
+  BrepSolid(const TopoDS_Shape& shape, std::string name, Tessellation tessellation = Tessellation::Make);
   ~BrepSolid() override;
 
   const std::string& name() const override;

@@ -210,7 +210,7 @@ struct BrepSolid::Impl {
   void index();
   bool proxyTrusted(const KPoint& q) const;
   Kernel::Triangle_3 proxyTriangle(ProxyMesh::Face_index f) const;
-  void buildProxy();
+  void buildProxy(bool tessellate);  // false: the triangles the faces carry
   void measureCrossingBands();
   void findAnalyticSurfaces();
   void measureChordReach();

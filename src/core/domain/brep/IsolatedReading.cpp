@@ -266,7 +266,8 @@ std::string describe(const std::string& name, const std::string& path) {
 BrepSolid::Loaded loadHelperOutput(HelperOutput output, const std::string& name, BrepSolid::Grouping grouping,
                                    const std::string& path) {
   const std::string what = describe(name, path);
-  BrepSolid::Loaded loaded = BrepSolid::load(output.solids, name, grouping, path);
+  // The helper tessellated the solids; their triangles came back with them.
+  BrepSolid::Loaded loaded = BrepSolid::load(output.solids, name, grouping, path, BrepSolid::Tessellation::Reuse);
   output.warnings.insert(output.warnings.end(), loaded.warnings.begin(), loaded.warnings.end());
   loaded.warnings = std::move(output.warnings);
   return loaded;

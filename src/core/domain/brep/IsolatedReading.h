@@ -6,8 +6,8 @@
 // `oraclemesh-shape-reader`, does all of BrepSolid::load on the file and writes the loaded
 // solids back as binary BREP (exact doubles), tessellation included; the caller waits within
 // the job's time limit and cancel, kills the helper when they end the wait, turns a signal
-// into an InputError naming the file, and loads the clean solids, whose stored tessellation
-// BRepMesh reuses. posix_spawn, not fork: the caller may be a multi-threaded Python process.
+// into an InputError naming the file, and loads the clean solids with the tessellation they
+// carry (BrepSolid::Tessellation::Reuse: no OpenCASCADE meshing outside the helper). posix_spawn, not fork: the caller may be a multi-threaded Python process.
 //
 // The helper is found beside the executable or shared library that holds the core (the CLI,
 // the Python module _core, a test program), then in ../libexec/oraclemesh from there, then

@@ -58,7 +58,7 @@ static TopoDS_Shape readSolidBrepText(const std::string& text, const std::string
 }
 
 BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& name, Grouping grouping,
-                                  const std::string& path) {
+                                  const std::string& path, Tessellation tessellation) {
   const std::string what = describe(name, path);
   Loaded loaded;
   SolidPieces pieces;
@@ -73,13 +73,13 @@ BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& 
     loaded.warnings.push_back(what + ": " + s + " bounds no volume and was left out; close it (Part > Shape builder) "
                               "if it should be meshed");
   if (grouping == Grouping::Together || pieces.solids.size() == 1) {
-    loaded.solids.push_back(namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(compoundOf(pieces.solids), name); }));
+    loaded.solids.push_back(namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(compoundOf(pieces.solids), name, tessellation); }));
     return loaded;
   }
   for (size_t i = 0; i < pieces.solids.size(); ++i) {
     const std::string solidName = name + "#" + std::to_string(i + 1);
     loaded.solids.push_back(namingTheFile(solidName, describe(solidName, path),
-                                          [&] { return std::make_shared<BrepSolid>(pieces.solids[i], solidName); }));
+                                          [&] { return std::make_shared<BrepSolid>(pieces.solids[i], solidName, tessellation); }));
   }
   return loaded;
 }

@@ -23,14 +23,16 @@
 
 namespace oraclemesh {
 
-void BrepSolid::Impl::buildProxy() {
+void BrepSolid::Impl::buildProxy(bool tessellate) {
   // A deflection relative to the model size keeps the proxy's triangle count independent of
   // the units; the exact band below follows whatever BRepMesh actually achieved.
   // 2e-4 keeps curved faces' exact bands thin (most Mesh_3 queries are near the surface)
   // at a few thousand triangles for typical parts.
   const double requested = 2e-4 * diagonal;
-  BRepMesh_IncrementalMesh mesher(shape, requested, Standard_False, 0.5, Standard_False);
-  (void)mesher;
+  if (tessellate) {
+    BRepMesh_IncrementalMesh mesher(shape, requested, Standard_False, 0.5, Standard_False);
+    (void)mesher;
+  }
 
   bool complete = true;
   // Starts at zero: a planar face's triangles lie on it, and its band then shrinks to the
