@@ -187,14 +187,32 @@ json inputsJson(const std::vector<InputReport>& inputs) {
 }
 
 // Parts are named as in report.inputs, so a user finds the interface of the two inputs they gave.
-json surfacesJson(const std::vector<SurfaceReport>& surfaces, const MaterialNames& names, bool interfaces) {
+// One entry per pair: a pair that is not bonded also has the surface of its second side
+// (material > other_material), listed under the pair's "surfaces".
+json surfacesJson(const JobReport& r, const MaterialNames& names, bool interfaces) {
   json list = json::array();
-  for (const SurfaceReport& s : surfaces) {
+  for (const SurfaceReport& s : r.surfaces) {
     if ((s.other_material != 0) != interfaces) continue;
+    if (interfaces && s.material > s.other_material) continue;
     json entry = {{"name", s.name}, {"area", s.area}, {"triangles", s.triangles}};
     if (interfaces) {
       entry["parts"] = {materialName(names, s.material), materialName(names, s.other_material)};
       entry["materials"] = {s.material, s.other_material};
+      const InterfaceBehaviour behaviour = r.interfaces.between(s.material, s.other_material);
+      entry["kind"] = interfaceKindName(behaviour.kind);
+      if (behaviour.kind == InterfaceKind::Contact) entry["friction"] = behaviour.friction;
+      json sides = json::array({s.name});
+      for (const SurfaceReport& back : r.surfaces)
+        if (back.material == s.other_material && back.other_material == s.material) sides.push_back(back.name);
+      entry["surfaces"] = sides;
+      for (const InterfaceConstraint& c : r.interface_constraints)
+        if (c.material == s.material && c.other_material == s.other_material) {
+          entry["constraint"] = c.name;
+          entry["master"] = c.master;
+          entry["slave"] = c.slave;
+          if (behaviour.kind == InterfaceKind::Tied) entry["position_tolerance"] = c.position_tolerance;
+          if (behaviour.kind == InterfaceKind::Contact) entry["contact_stiffness"] = c.contact_stiffness;
+        }
     } else {
       entry["part"] = materialName(names, s.material);
       entry["material"] = s.material;
@@ -285,8 +303,10 @@ json reportJson(const JobReport& r) {
   report["bbox_diagonal"] = r.bbox_diagonal;
   report["inputs"] = inputsJson(r.inputs);
   const MaterialNames names = partNames(r.inputs);
-  report["interfaces"] = surfacesJson(r.surfaces, names, true);
-  report["exteriors"] = surfacesJson(r.surfaces, names, false);
+  report["interfaces"] = surfacesJson(r, names, true);
+  report["exteriors"] = surfacesJson(r, names, false);
+  report["interface_split"] = {{"corner_copies", r.interface_split.corner_copies},
+                               {"mid_copies", r.interface_split.mid_copies}};
   report["warnings"] = r.warnings;
   report["seconds"] = r.seconds;
   return report;

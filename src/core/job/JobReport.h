@@ -19,6 +19,8 @@
 #include "job/MeshSelfCheck.h"
 #include "improve/Flips.h"
 #include "mesh/BoundarySnap.h"
+#include "mesh/InterfaceConstraints.h"
+#include "mesh/InterfaceSplit.h"
 #include "mesh/Quality.h"
 #include "mesh/Surfaces.h"
 #include "mesh/Topology.h"
@@ -114,6 +116,9 @@ struct JobReport {
   MeshCheckMode checks = MeshCheckMode::Warn;
   MeshSelfCheck self_check;
   std::vector<SurfaceReport> surfaces;  // interfaces and exteriors, as meshSurfaces orders them
+  InterfacePlan interfaces;             // the job's "interfaces" by material ids
+  std::vector<InterfaceConstraint> interface_constraints;  // ties and contacts as the INP has them
+  InterfaceSplitStats interface_split;
   std::vector<std::string> warnings;  // in the order the phases found them
   std::map<std::string, double> seconds;
 };

@@ -227,6 +227,69 @@ InputSpec parseInput(const json& in, size_t index, const std::string& base) {
   return s;
 }
 
+const char* const kInterfaceKinds = "\"bonded\" (shared nodes), \"tied\", \"contact\" or \"separate\"";
+
+InterfaceKind parseInterfaceKind(const json& value, const std::string& where) {
+  for (InterfaceKind kind : {InterfaceKind::Bonded, InterfaceKind::Tied, InterfaceKind::Contact, InterfaceKind::Separate})
+    if (value == interfaceKindName(kind)) return kind;
+  throw InputError(where + " = " + shortDump(value) + " is not an interface kind: use " + kInterfaceKinds);
+}
+
+// {"default": "bonded", "pairs": [{"between": ["top", "bottom"], "kind": "contact", "friction": 0.2}]}
+InterfacesSpec parseInterfaces(const json& value) {
+  const std::string form = ": give {\"default\": \"bonded\", \"pairs\": [{\"between\": [\"top\", \"bottom\"], "
+                           "\"kind\": \"contact\"}]} with parts named as in report.interfaces";
+  if (!value.is_object()) throw InputError("'interfaces' must be an object" + form);
+  rejectUnknownKeys(value, {"default", "pairs"}, "interfaces");
+  InterfacesSpec spec;
+  if (value.contains("default")) spec.default_kind = parseInterfaceKind(value["default"], "interfaces.default");
+  if (!value.contains("pairs")) return spec;
+  const json& pairs = value["pairs"];
+  if (!pairs.is_array()) throw InputError("interfaces.pairs must be a list" + form);
+  std::map<std::set<std::string>, size_t> seen;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const std::string where = "interfaces.pairs[" + std::to_string(i) + "]";
+    const json& p = pairs[i];
+    if (!p.is_object()) throw InputError(where + " must be an object like {\"between\": [\"top\", \"bottom\"], \"kind\": \"tied\"}");
+    rejectUnknownKeys(p, {"between", "kind", "friction", "master"}, where);
+    InterfacePairSpec pair;
+    const json& between = p.contains("between") ? p["between"] : json();
+    if (!between.is_array() || between.size() != 2 || !between[0].is_string() || !between[1].is_string())
+      throw InputError(where + ".between must be the names of two parts, e.g. [\"top\", \"bottom\"] (as in "
+                       "report.interfaces[i].parts), got " + shortDump(between));
+    pair.between = {between[0].get<std::string>(), between[1].get<std::string>()};
+    if (pair.between[0] == pair.between[1])
+      throw InputError(where + ".between names part '" + pair.between[0] + "' twice: an interface is between two different parts");
+    const std::set<std::string> key(pair.between.begin(), pair.between.end());
+    if (const auto it = seen.find(key); it != seen.end())
+      throw InputError(where + " repeats the pair '" + pair.between[0] + "', '" + pair.between[1] +
+                       "' of interfaces.pairs[" + std::to_string(it->second) + "]: give each pair once");
+    seen[key] = i;
+    if (!p.contains("kind")) throw InputError(where + " has no 'kind': use " + kInterfaceKinds);
+    pair.behaviour.kind = parseInterfaceKind(p["kind"], where + ".kind");
+    if (p.contains("friction")) {
+      if (pair.behaviour.kind != InterfaceKind::Contact)
+        throw InputError(where + ".friction belongs to kind \"contact\" only (this pair is \"" +
+                         interfaceKindName(pair.behaviour.kind) + "\"): remove it or make the pair a contact");
+      pair.behaviour.friction = jobjson::number(p["friction"], where + ".friction",
+                                                "give a Coulomb friction coefficient >= 0 (0 = frictionless)");
+      if (pair.behaviour.friction < 0)
+        throw InputError(where + ".friction = " + shortDump(p["friction"]) +
+                         " is negative: give a Coulomb friction coefficient >= 0 (0 = frictionless)");
+    }
+    if (p.contains("master")) {
+      if (pair.behaviour.kind != InterfaceKind::Tied && pair.behaviour.kind != InterfaceKind::Contact)
+        throw InputError(where + ".master applies to kinds \"tied\" and \"contact\" only: remove it");
+      pair.master = jobjson::string(p["master"], where + ".master", "give one of the two parts of 'between'");
+      if (pair.master != pair.between[0] && pair.master != pair.between[1])
+        throw InputError(where + ".master = '" + pair.master + "' is not one of the pair's parts '" +
+                         pair.between[0] + "', '" + pair.between[1] + "'");
+    }
+    spec.pairs.push_back(pair);
+  }
+  return spec;
+}
+
 }  // namespace
 
 std::vector<int> InputSpec::materials() const {
@@ -293,7 +356,7 @@ const char* materialAssignmentName(MaterialAssignment assignment) {
 JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
-                          "element_order", "limits", "seed", "checks", "output"},
+                          "element_order", "limits", "seed", "checks", "interfaces", "output"},
                     "the job");
   JobSpec spec;
   if (!job.contains("inputs") || !job["inputs"].is_array() || job["inputs"].empty())
@@ -429,6 +492,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
                        "written with warnings) or \"error\" (it is refused)");
     spec.checks = c == "error" ? MeshCheckMode::Error : MeshCheckMode::Warn;
   }
+  if (job.contains("interfaces")) spec.interfaces = parseInterfaces(job["interfaces"]);
   if (job.contains("output")) {
     const json& o = job["output"];
     if (!o.is_object()) throw InputError("'output' must be like {\"files\": [\"mesh.vtu\", \"mesh.inp\"], \"report\": \"report.json\"}");

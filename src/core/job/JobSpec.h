@@ -13,6 +13,7 @@
 #include "Geometry.h"
 #include "MeshCriteria.h"
 #include "domain/HierarchicalOracle.h"
+#include "mesh/InterfaceKinds.h"
 
 namespace oraclemesh {
 
@@ -59,6 +60,20 @@ struct CriteriaSpec {
   std::optional<double> cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle, edge_size;
 };
 
+// "interfaces": how touching parts are joined, per pair of parts named as in the report
+// (report.interfaces[i].parts). The names are checked against the parts once the inputs are
+// loaded (job/InterfaceSettings); here only the form.
+struct InterfacePairSpec {
+  std::array<std::string, 2> between;
+  InterfaceBehaviour behaviour;  // master_material is filled when the names are resolved
+  std::string master;            // "master": one of `between`, or "" (the writer chooses)
+};
+
+struct InterfacesSpec {
+  InterfaceKind default_kind = InterfaceKind::Bonded;
+  std::vector<InterfacePairSpec> pairs;
+};
+
 struct JobSpec {
   std::vector<InputSpec> inputs;  // highest priority first
   CriteriaSpec default_criteria;
@@ -96,6 +111,7 @@ struct JobSpec {
   // Warn until sizes follow the geometry: at the default sizes small parts of an assembly
   // still come out short of volume, and an error would refuse those meshes outright.
   MeshCheckMode checks = MeshCheckMode::Warn;
+  InterfacesSpec interfaces;
   std::vector<std::string> output_files;  // resolved against the base directory
   std::string report_file;
 

@@ -8,11 +8,14 @@
 #include "job/FeatureAssembly.h"
 #include "job/InputChecks.h"
 #include "job/InputLoading.h"
+#include "job/InterfaceSettings.h"
 #include "job/JobReport.h"
 #include "job/MeshSelfCheck.h"
 #include "job/PhaseClock.h"
 #include "job/ResolvedCriteria.h"
 #include "mesh/BoundarySnap.h"
+#include "mesh/InterfaceConstraints.h"
+#include "mesh/InterfaceSplit.h"
 #include "mesh/Quality.h"
 #include "mesh/SecondOrder.h"
 #include "mesh/Topology.h"
@@ -48,6 +51,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.inputs = describeInputs(oracle, inputs);
   report.bbox_diagonal = diagonal;
   report.criteria = criteria;
+  // Part names are known now: a misspelt one in "interfaces" stops the job before meshing.
+  const MaterialNames names = partNames(report.inputs);
+  report.interfaces = resolveInterfaces(job.interfaces, names);
   clock.finish("load");
 
   control.report("features", 0);
@@ -83,13 +89,19 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     clock.finish("second_order");
   }
 
+  // Surfaces from the shared-node mesh, both sides of every pair that is not bonded; the split
+  // keeps tet indices, so their faces stay valid after it.
+  std::vector<MeshSurface> surfaces = meshSurfaces(mesh, report.interfaces);
+  for (std::string& warning : interfaceWarnings(report.interfaces, surfaces, names))
+    report.warnings.push_back(std::move(warning));
+  report.interface_split = splitInterfaces(mesh, report.interfaces);
+  report.interface_constraints = interfaceConstraints(mesh, surfaces, names, report.interfaces);
+
   // The final checks. A feature edge that is no tet edge is an error, never a mesh returned.
   requireFeatureEdgesInTets(mesh);
   report.quality = measureQuality(mesh);
   report.conformity = checkConformity(mesh);
   report.counts = {mesh.points.size(), mesh.tets.size(), mesh.boundary.size(), mesh.feature_edges.size()};
-  const MaterialNames names = partNames(report.inputs);
-  std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
   report.surfaces = describeSurfaces(surfaces, names);
   addMeshWarnings(report);
 
@@ -107,7 +119,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   }
 
   control.report("write", 0);
-  for (const std::string& path : job.output_files) writeMeshFile(path, mesh, names);
+  for (const std::string& path : job.output_files) writeMeshFile(path, mesh, names, surfaces, report.interfaces);
   clock.finish("write");
   report.seconds = clock.seconds;
   JobResult result;

@@ -28,7 +28,7 @@ double triangleArea(const TetMesh& mesh, const ElementFace& f) {
 
 }  // namespace
 
-std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh) {
+std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh, const InterfacePlan& plan) {
   // The boundary as extractBoundary sees it: an interface's faces come from the smaller
   // material's tet, faces shared by more than two tets are left out (checkConformity counts them).
   std::map<std::pair<int, int>, MeshSurface> byPair;
@@ -38,6 +38,11 @@ std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh) {
     s.material = material;
     s.other_material = face.material_out;
     s.faces.push_back({face.tet, kLabelOfFaceOpposite[face.opposite_corner]});
+    if (face.material_out == 0 || plan.bonded(material, face.material_out)) continue;
+    MeshSurface& back = byPair[{face.material_out, material}];
+    back.material = face.material_out;
+    back.other_material = material;
+    back.faces.push_back({face.other_tet, kLabelOfFaceOpposite[face.other_opposite_corner]});
   }
   std::vector<MeshSurface> result;
   for (auto& [pair, s] : byPair) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/InterfaceKinds.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -24,15 +25,22 @@ struct ElementFace {
 };
 
 struct MeshSurface {
-  int material = 0;        // the side the faces are taken from (the smaller id of an interface)
+  // The side the faces are taken from: the smaller id of an interface, or the larger for the
+  // second side of a pair that is not bonded (whose faces are the same triangles, from that
+  // part's tets).
+  int material = 0;
   int other_material = 0;  // 0 = the outside: the exterior surface of `material`
   std::vector<ElementFace> faces;  // ordered by tet, then face
   double area = 0;                 // of the flat corner triangles
 };
 
 // Interfaces (material < other_material) and exteriors (other_material = 0) of `mesh`,
-// sorted by (material, other_material), one per pair that shares at least one face.
-std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh);
+// sorted by (material, other_material), one per pair that shares at least one face. For every
+// pair that `plan` does not bond, also the same faces seen from the larger material's tets
+// (material > other_material): a tie or contact needs each part's own faces, and after the
+// interface split (mesh/InterfaceSplit) the two parts no longer share them, so call this on
+// the mesh before the split (the split keeps tet indices, so the faces stay valid).
+std::vector<MeshSurface> meshSurfaces(const TetMesh& mesh, const InterfacePlan& plan = {});
 
 // Names of the parts per material id; a material missing from `names` is "Material<id>".
 using MaterialNames = std::map<int, std::string>;
@@ -45,7 +53,7 @@ inline constexpr size_t kMaxInpNameLength = 80;  // CalculiX' limit
 // starting with a letter, at most kMaxInpNameLength characters.
 std::string inpName(const std::string& text);
 
-// "Interface_<part>_<part>" or "Exterior_<part>", in inpName's alphabet.
+// "Interface_<part>_<part>" (material's part first) or "Exterior_<part>", in inpName's alphabet.
 std::string surfaceName(const MaterialNames& names, const MeshSurface& surface);
 
 // surfaceName of each surface, made unique: two parts can clean to the same name ("Bolt 1"

@@ -200,12 +200,13 @@ std::vector<BoundaryFace> boundaryElementFaces(const TetMesh& mesh) {
   std::vector<BoundaryFace> boundary;
   for (const FaceRecord& face : buildFaceTable(mesh)) {
     if (face.tet_count == 1) {
-      boundary.push_back({face.tets[0], face.local_face[0], 0});
+      boundary.push_back({face.tets[0], face.local_face[0], 0, -1, -1});
     } else if (face.tet_count == 2) {
       const int m0 = mesh.tet_materials[face.tets[0]], m1 = mesh.tet_materials[face.tets[1]];
       if (m0 == m1) continue;
       const int side = m0 < m1 ? 0 : 1;  // the smaller material id is the inside
-      boundary.push_back({face.tets[side], face.local_face[side], std::max(m0, m1)});
+      boundary.push_back({face.tets[side], face.local_face[side], std::max(m0, m1), face.tets[1 - side],
+                          face.local_face[1 - side]});
     }
   }
   return boundary;

@@ -45,10 +45,14 @@ std::vector<BoundaryTriangle> extractBoundary(const TetMesh& mesh);
 
 // extractBoundary's faces, in its order, as element faces: the tet each is taken from and the
 // corner of that tet the face is opposite to (for writers that name faces per element).
+// Interface faces also name the tet on the other side (the larger material's), so that a
+// surface can be taken from either side.
 struct BoundaryFace {
   int64_t tet = 0;
   int opposite_corner = 0;
   int material_out = 0;  // 0 = outside the domain
+  int64_t other_tet = -1;          // -1 on the outside
+  int other_opposite_corner = -1;
 };
 std::vector<BoundaryFace> boundaryElementFaces(const TetMesh& mesh);
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "Error.h"
+#include "mesh/InterfaceConstraints.h"
 #include "mesh/Topology.h"
 
 namespace oraclemesh {
@@ -150,8 +151,8 @@ void printVtuCellsEnd(OutputFile& out, size_t cells, int nodesPerCell, int cellT
 // volume file: ParaView shows faces only as cells of their own, and a file of its own keeps
 // the volume file's cells the tets alone (what meshio users and the tests read).
 
-void writeSurfacesVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
-  const std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
+void writeSurfacesVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+                      const std::vector<MeshSurface>& surfaces) {
   // Mid-node column of TetMesh::tet_mid_nodes for the edge between two corners.
   auto midColumn = [](int a, int b) {
     static constexpr int kColumn[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
@@ -241,11 +242,21 @@ void writeTetsVtu(const std::string& path, const TetMesh& mesh) {
 }  // namespace
 
 void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
+  writeVtu(path, mesh, names, meshSurfaces(mesh));
+}
+
+void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+              const std::vector<MeshSurface>& surfaces) {
   writeTetsVtu(path, mesh);
-  writeSurfacesVtu(surfacesVtuPath(path), mesh, names);
+  writeSurfacesVtu(surfacesVtuPath(path), mesh, names, surfaces);
 }
 
 void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
+  writeInp(path, mesh, names, meshSurfaces(mesh), InterfacePlan());
+}
+
+void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+              const std::vector<MeshSurface>& surfaces, const InterfacePlan& plan) {
   requireConsistentIndices(mesh);
   requireFinitePoints(mesh, path);
   const char* elementType = mesh.order() == 2 ? "C3D10" : "C3D4";
@@ -253,7 +264,9 @@ void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames&
   out.print("** OracleMesh tetrahedral mesh: %zu nodes, %zu %s elements\n", mesh.points.size(), mesh.tets.size(),
             elementType);
   out.print("** element sets Material<id> (one per material) and Eall (all elements); surfaces Interface_<part>_<part>\n");
-  out.print("** and Exterior_<part> over element faces\n");
+  out.print("** and Exterior_<part> over element faces; where two parts are not bonded (tied, contact, separate)\n");
+  out.print("** they have their own nodes there and both sides are surfaces: Interface_<a>_<b> from a's faces and\n");
+  out.print("** Interface_<b>_<a> from b's; *TIE and *CONTACT PAIR cards at the end join tied and contact pairs\n");
   out.print("*NODE, NSET=Nall\n");
   for (size_t i = 0; i < mesh.points.size(); ++i)
     out.print("%zu, %s, %s, %s\n", i + 1, inpCoordinate(mesh.points[i][0]).c_str(),
@@ -277,13 +290,13 @@ void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames&
   }
   // Loads, ties and contacts in CalculiX refer to element faces; these give users and the
   // workbench every interface and exterior by the parts' names.
-  const std::vector<MeshSurface> surfaces = meshSurfaces(mesh);
   const std::vector<std::string> surfaceNamesInOrder = surfaceNames(names, surfaces);
   for (size_t i = 0; i < surfaces.size(); ++i) {
     out.print("*SURFACE, NAME=%s, TYPE=ELEMENT\n", surfaceNamesInOrder[i].c_str());
     for (const ElementFace& f : surfaces[i].faces)
       out.print("%lld, S%d\n", static_cast<long long>(f.tet + 1), f.face + 1);
   }
+  out.print(calculixInterfaceCards(interfaceConstraints(mesh, surfaces, names, plan)).c_str());
   out.close();
 }
 
@@ -295,9 +308,14 @@ std::string meshFileFormatProblem(const std::string& path) {
 }
 
 void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names) {
+  writeMeshFile(path, mesh, names, meshSurfaces(mesh), InterfacePlan());
+}
+
+void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+                   const std::vector<MeshSurface>& surfaces, const InterfacePlan& plan) {
   const std::string ext = lowerCaseExtension(path);
-  if (ext == ".vtu") return writeVtu(path, mesh, names);
-  if (ext == ".inp") return writeInp(path, mesh, names);
+  if (ext == ".vtu") return writeVtu(path, mesh, names, surfaces);
+  if (ext == ".inp") return writeInp(path, mesh, names, surfaces, plan);
   throw InputError("cannot write the mesh file '" + path + "': " + meshFileFormatProblem(path));
 }
 

@@ -4,7 +4,9 @@
 // exception is noted at writeInp.
 // Failures to open or write a file throw oraclemesh::Error naming the path.
 #include <string>
+#include <vector>
 
+#include "mesh/InterfaceKinds.h"
 #include "mesh/Surfaces.h"
 #include "mesh/TetMesh.h"
 
@@ -19,6 +21,10 @@ namespace oraclemesh {
 // names as the INP's *SURFACE), "material" and "other_material" (0 = exterior); ParaView:
 // Threshold on "surface", or on material / other_material for one part's faces.
 void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
+// The same with the surfaces given (meshSurfaces(mesh, plan) taken before an interface split,
+// which a split mesh no longer shows as interfaces).
+void writeVtu(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+              const std::vector<MeshSurface>& surfaces);
 
 // "<path without its extension>_surfaces.vtu".
 std::string surfacesVtuPath(const std::string& vtuPath);
@@ -32,11 +38,19 @@ std::string surfacesVtuPath(const std::string& vtuPath);
 // least 14 significant ones (relative error <= 5e-14; 13 digits for |x| < 1e-99 or > 1e99).
 // Then one *SURFACE, TYPE=ELEMENT per interface and per part exterior (meshSurfaces), named
 // by surfaceNames after the parts in `names`, as "element, S<n>" lines (kCalculixTetFaces).
+// After them, for every tied or contact pair of `plan` (interfaceConstraints): a *TIE, or a
+// *SURFACE INTERACTION (LINEAR pressure-overclosure, InterfaceConstraint::contact_stiffness; *FRICTION when the pair has a coefficient)
+// and a surface-to-surface *CONTACT PAIR, slave surface first. No *STEP: these are model
+// definitions, valid before the user's step. Without `surfaces`, meshSurfaces(mesh), all bonded.
 void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
+void writeInp(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+              const std::vector<MeshSurface>& surfaces, const InterfacePlan& plan);
 
 // Writes by file extension (case-insensitive): .vtu or .inp. Any other extension throws
 // oraclemesh::InputError naming the path and the supported extensions.
 void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names = {});
+void writeMeshFile(const std::string& path, const TetMesh& mesh, const MaterialNames& names,
+                   const std::vector<MeshSurface>& surfaces, const InterfacePlan& plan);
 // Why `path` cannot be written as a mesh file (its extension), or "" when it can.
 std::string meshFileFormatProblem(const std::string& path);
 

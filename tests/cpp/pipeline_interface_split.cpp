@@ -1,0 +1,238 @@
+// Per-pair interface behaviour (issue 19 item 2): the split that gives tied / contact /
+// separate parts their own nodes, checked on two stacked B-rep boxes against the bonded mesh
+// of the same job (the split runs after everything else that shapes the mesh, so the two
+// meshes are the same until then), and the job's "interfaces" errors.
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "input_errors.h"
+#include "job/Pipeline.h"
+#include "mesh/Topology.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+
+// Lower 10 x 10 x 10, Upper 6 x 6 x 5 standing on the rectangle x 2..8, y 3..9 of its top.
+json twoBoxesJob(int order) {
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(2, 3, 10), 6, 6, 5).Shape();
+  return {{"inputs",
+           {{{"name", "Lower"}, {"brep", test::brepText(lower)}, {"material", 1}},
+            {{"name", "Upper"}, {"brep", test::brepText(upper)}, {"material", 2}}}},
+          {"criteria", {{"default", {{"cell_size", 3}, {"facet_size", 3}, {"facet_distance", 0.5}}}}},
+          {"element_order", order},
+          {"seed", 0}};
+}
+
+json withPair(json job, const std::string& kind) {
+  job["interfaces"] = {{"pairs", {{{"between", {"Upper", "Lower"}}, {"kind", kind}}}}};
+  return job;
+}
+
+JobResult run(const json& job) { return runJob(JobSpec::fromJson(job, ""), RunControl()); }
+
+const MeshSurface& surfaceNamed(const JobResult& r, const std::string& name) {
+  for (size_t i = 0; i < r.surfaces.size(); ++i)
+    if (r.surface_names[i] == name) return r.surfaces[i];
+  throw std::runtime_error("no surface " + name);
+}
+
+// Mid-node column of the edge between two corners (TetMesh's 01, 12, 20, 03, 13, 23).
+int midColumn(int a, int b) {
+  static constexpr int kColumn[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
+  return kColumn[a][b];
+}
+
+// All nodes of a face: its corners and, for tet10, the mid nodes of its edges.
+std::vector<int64_t> faceNodes(const TetMesh& mesh, const ElementFace& f) {
+  std::vector<int64_t> nodes;
+  const auto& c = kCalculixTetFaces[f.face];
+  for (int k = 0; k < 3; ++k) nodes.push_back(mesh.tets[f.tet][c[k]]);
+  if (mesh.order() == 2)
+    for (int k = 0; k < 3; ++k) nodes.push_back(mesh.tet_mid_nodes[f.tet][midColumn(c[k], c[(k + 1) % 3])]);
+  return nodes;
+}
+
+std::set<Point3> facePoints(const TetMesh& mesh, const ElementFace& f) {
+  std::set<Point3> points;
+  for (int64_t v : faceNodes(mesh, f)) points.insert(mesh.points[v]);
+  return points;
+}
+
+std::set<int64_t> nodesOfMaterial(const TetMesh& mesh, int material) {
+  std::set<int64_t> nodes;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.tet_materials[t] != material) continue;
+    nodes.insert(mesh.tets[t].begin(), mesh.tets[t].end());
+    if (mesh.order() == 2) nodes.insert(mesh.tet_mid_nodes[t].begin(), mesh.tet_mid_nodes[t].end());
+  }
+  return nodes;
+}
+
+void expectSplitAlongTheInterface(int order) {
+  SCOPED_TRACE("element order " + std::to_string(order));
+  const JobResult bonded = run(twoBoxesJob(order));
+  const JobResult tied = run(withPair(twoBoxesJob(order), "tied"));
+  const TetMesh &before = bonded.mesh, &after = tied.mesh;
+
+  // Same tets, same materials; the original points unchanged, one copy per interface node.
+  ASSERT_EQ(after.tets.size(), before.tets.size());
+  EXPECT_EQ(after.tet_materials, before.tet_materials);
+  std::set<int64_t> interfaceNodes;
+  for (const ElementFace& f : surfaceNamed(bonded, "Interface_Lower_Upper").faces)
+    for (int64_t v : faceNodes(before, f)) interfaceNodes.insert(v);
+  ASSERT_GT(interfaceNodes.size(), 10u);
+  EXPECT_EQ(after.points.size(), before.points.size() + interfaceNodes.size());
+  for (size_t i = 0; i < before.points.size(); ++i) ASSERT_EQ(after.points[i], before.points[i]) << i;
+  EXPECT_EQ(tied.report["interface_split"]["corner_copies"].get<int64_t>() +
+                tied.report["interface_split"]["mid_copies"].get<int64_t>(),
+            static_cast<int64_t>(interfaceNodes.size()));
+  EXPECT_EQ(after.vertex_dimension.size(), after.points.size());
+
+  // The parts share no node any more.
+  const std::set<int64_t> lower = nodesOfMaterial(after, 1), upper = nodesOfMaterial(after, 2);
+  std::vector<int64_t> common;
+  std::set_intersection(lower.begin(), lower.end(), upper.begin(), upper.end(), std::back_inserter(common));
+  EXPECT_TRUE(common.empty()) << common.size() << " nodes shared";
+
+  // Both sides of the interface, each from its own part's tets, face for face at the same places.
+  const MeshSurface& front = surfaceNamed(tied, "Interface_Lower_Upper");
+  const MeshSurface& back = surfaceNamed(tied, "Interface_Upper_Lower");
+  EXPECT_EQ(front.material, 1);
+  EXPECT_EQ(back.material, 2);
+  ASSERT_EQ(front.faces.size(), back.faces.size());
+  std::multiset<std::set<Point3>> frontFaces, backFaces;
+  for (const ElementFace& f : front.faces) {
+    EXPECT_EQ(after.tet_materials[f.tet], 1);
+    frontFaces.insert(facePoints(after, f));
+  }
+  for (const ElementFace& f : back.faces) {
+    EXPECT_EQ(after.tet_materials[f.tet], 2);
+    backFaces.insert(facePoints(after, f));
+  }
+  EXPECT_TRUE(frontFaces == backFaces);
+  EXPECT_EQ(frontFaces.begin()->size(), order == 2 ? 6u : 3u);
+  EXPECT_NEAR(front.area, 36.0, 36e-9);
+  EXPECT_NEAR(back.area, 36.0, 36e-9);
+  // ...and in the split mesh they are faces of one tet each: the parts no longer share them.
+  std::map<std::array<int64_t, 3>, int> uses;
+  for (const auto& t : after.tets)
+    for (const auto& c : kCalculixTetFaces) {
+      std::array<int64_t, 3> key = {t[c[0]], t[c[1]], t[c[2]]};
+      std::sort(key.begin(), key.end());
+      ++uses[key];
+    }
+  for (const MeshSurface* s : {&front, &back})
+    for (const ElementFace& f : s->faces) {
+      const auto n = faceNodes(after, f);
+      std::array<int64_t, 3> key = {n[0], n[1], n[2]};
+      std::sort(key.begin(), key.end());
+      EXPECT_EQ(uses[key], 1);
+    }
+
+  // A valid mesh: no open boundary, mid nodes consistent, volumes per material unchanged.
+  EXPECT_TRUE(checkConformity(after).ok()) << tied.report["conformity"].dump();
+  EXPECT_EQ(tied.report["volume_per_material"], bonded.report["volume_per_material"]);
+  EXPECT_NEAR(tied.report["volume_per_material"]["2"].get<double>(), 180.0, 180e-9);
+  EXPECT_EQ(featureEdgesNotTetEdges(after), 0);
+  for (const BoundaryTriangle& tri : after.boundary) {
+    const std::set<int64_t>& side = tri.material_in == 1 ? lower : upper;
+    for (int64_t v : tri.v) EXPECT_TRUE(side.count(v)) << "boundary triangle vertex " << v;
+  }
+
+  // The report names the pair's kind and both sides.
+  ASSERT_EQ(tied.report["interfaces"].size(), 1u);
+  const json& entry = tied.report["interfaces"][0];
+  EXPECT_EQ(entry["kind"], "tied");
+  EXPECT_EQ(entry["surfaces"], json::array({"Interface_Lower_Upper", "Interface_Upper_Lower"}));
+  EXPECT_EQ(bonded.report["interfaces"][0]["kind"], "bonded");
+  EXPECT_EQ(bonded.report["interface_split"]["corner_copies"], 0);
+}
+
+TEST(InterfaceSplit, TiedBoxesGetOwnNodesAlongTheirCommonFaceTet4) { expectSplitAlongTheInterface(1); }
+TEST(InterfaceSplit, TiedBoxesGetOwnNodesAlongTheirCommonFaceTet10) { expectSplitAlongTheInterface(2); }
+
+TEST(InterfaceSplit, BondedSettingGivesTheSameMeshAsNoSetting) {
+  const JobResult plain = run(twoBoxesJob(2));
+  json job = withPair(twoBoxesJob(2), "bonded");
+  job["interfaces"]["default"] = "bonded";
+  const JobResult bonded = run(job);
+  EXPECT_EQ(bonded.mesh.points, plain.mesh.points);
+  EXPECT_EQ(bonded.mesh.tets, plain.mesh.tets);
+  EXPECT_EQ(bonded.mesh.tet_mid_nodes, plain.mesh.tet_mid_nodes);
+  EXPECT_EQ(bonded.mesh.feature_edges, plain.mesh.feature_edges);
+  EXPECT_EQ(bonded.surface_names, plain.surface_names);
+}
+
+// The INP of a contact pair: the two sides as surfaces and the CalculiX cards joining them.
+TEST(InterfaceSplit, ContactPairIsWrittenAsCalculixContact) {
+  const std::string inp = (std::filesystem::temp_directory_path() / "oraclemesh_split_contact.inp").string();
+  json job = twoBoxesJob(2);
+  job["interfaces"] = {{"default", "contact"},
+                       {"pairs", {{{"between", {"Lower", "Upper"}}, {"kind", "contact"}, {"friction", 0.2},
+                                   {"master", "Lower"}}}}};
+  job["output"] = {{"files", {inp}}};
+  const JobResult r = run(job);
+  std::ifstream file(inp);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  for (const char* card : {"*SURFACE, NAME=Interface_Lower_Upper, TYPE=ELEMENT\n",
+                           "*SURFACE, NAME=Interface_Upper_Lower, TYPE=ELEMENT\n",
+                           "*SURFACE INTERACTION, NAME=Contact_Lower_Upper\n", "*FRICTION\n0.2, ",
+                           "*CONTACT PAIR, INTERACTION=Contact_Lower_Upper, TYPE=SURFACE TO SURFACE\n"
+                           "Interface_Upper_Lower, Interface_Lower_Upper\n"})
+    EXPECT_NE(text.find(card), std::string::npos) << card;
+  EXPECT_EQ(text.find("*STEP"), std::string::npos);
+  EXPECT_EQ(r.report["interfaces"][0]["master"], "Interface_Lower_Upper");
+  EXPECT_EQ(r.report["interfaces"][0]["friction"], 0.2);
+  std::filesystem::remove(inp);
+}
+
+std::string parseError(const json& job) {
+  return test::inputErrorOf([&] { JobSpec::fromJson(job, ""); });
+}
+
+TEST(InterfaceSplit, InterfaceSettingErrorsNameThePathAndTheFix) {
+  json job = {{"inputs", {{{"name", "ball"}, {"sphere", {{"center", {0, 0, 0}}, {"radius", 1}}}}}}};
+  job["interfaces"] = {{"default", "glued"}};
+  EXPECT_EQ(parseError(job), "interfaces.default = \"glued\" is not an interface kind: use \"bonded\" (shared nodes), "
+                             "\"tied\", \"contact\" or \"separate\"");
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "tied"}}, {{"between", {"b", "a"}}, {"kind", "contact"}}}}};
+  EXPECT_EQ(parseError(job), "interfaces.pairs[1] repeats the pair 'b', 'a' of interfaces.pairs[0]: give each pair once");
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "contact"}, {"friction", -0.1}}}}};
+  EXPECT_EQ(parseError(job), "interfaces.pairs[0].friction = -0.1 is negative: give a Coulomb friction coefficient "
+                             ">= 0 (0 = frictionless)");
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "tied"}, {"friction", 0.1}}}}};
+  EXPECT_NE(parseError(job).find("interfaces.pairs[0].friction belongs to kind \"contact\" only"), std::string::npos);
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "a"}}, {"kind", "tied"}}}}};
+  EXPECT_NE(parseError(job).find("interfaces.pairs[0].between names part 'a' twice"), std::string::npos);
+  job["interfaces"] = {{"pairs", {{{"between", {"a"}}, {"kind", "tied"}}}}};
+  EXPECT_NE(parseError(job).find("interfaces.pairs[0].between must be the names of two parts"), std::string::npos);
+  const std::string nonFinite = test::inputErrorOf([] {
+    JobSpec::fromJsonText(R"({"inputs": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+                              "interfaces": {"pairs": [{"between": ["a", "b"], "kind": "contact", "friction": 1e999}]}})",
+                          "");
+  });
+  EXPECT_NE(nonFinite.find("numbers must be finite"), std::string::npos) << nonFinite;
+
+  // A part name that is not in the model: known after loading, before meshing.
+  json boxes = withPair(twoBoxesJob(1), "tied");
+  boxes["interfaces"]["pairs"][0]["between"][1] = "Lowr";
+  EXPECT_EQ(test::inputErrorOf([&] { run(boxes); }),
+            "interfaces.pairs[0].between[1] = 'Lowr' is no part of the model: the parts are 'Lower', 'Upper' (as "
+            "report.inputs and report.interfaces name them; inputs of one material id are one part, named with '+')");
+}
+
+}  // namespace
+}  // namespace oraclemesh

@@ -1,0 +1,120 @@
+"""Per-pair interface behaviour (issue 19 item 2) in CalculiX: two steel plates 200 x 20 x 5 mm
+stacked (B-rep boxes, tet10, cell size 5), both clamped at x = 0, 100 N pressing down on the top
+face. Bonded and tied deflect as one 10 mm beam (Euler-Bernoulli F L^3 / 8 E I = 0.2857 mm);
+frictionless contact as two 5 mm beams sharing the load, 4x that. Pulled up at the tip with
+contact, the top plate lifts off and the bottom one, with no load of its own, stays put.
+The plate BREP is FreeCAD's Part.makeBox(200, 20, 5).exportBrepToString()."""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import oraclemesh
+from test_part_surfaces import FACES
+from test_writers_meshio import require_programs
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EULER_BERNOULLI = 100.0 * 200.0 ** 3 / (8 * 210000.0 * 20.0 * 10.0 ** 3 / 12)  # 0.2857 mm
+
+
+def plate_brep(dz):
+    """The plate, moved up by dz through a BREP location on the whole shape."""
+    with open(os.path.join(HERE, "..", "data", "plate_200x20x5.brep")) as f:
+        text = f.read()
+    if dz == 0:
+        return text
+    text = text.replace("Locations 0\n", "Locations 1\n1\n 1 0 0 0\n 0 1 0 0\n 0 0 1 %r\n" % dz, 1)
+    assert text.rstrip().endswith("+1 0")
+    return text.rstrip()[:-len("+1 0")] + "+1 1\n"
+
+
+def node_lines(nodes):
+    return [", ".join(map(str, nodes[k:k + 8])) for k in range(0, len(nodes), 8)]
+
+
+def solve(folder, kind, load):
+    """Meshes the plates with `kind` between them, runs ccx; returns (result, tip node ids,
+    their uz, which of them belong to the top plate)."""
+    os.makedirs(folder, exist_ok=True)
+    job = {"inputs": [{"name": "top", "brep": plate_brep(5.0), "material": 1},
+                      {"name": "bottom", "brep": plate_brep(0.0), "material": 2}],
+           "criteria": {"default": {"cell_size": 5, "facet_size": 5}},
+           "element_order": 2, "seed": 0,
+           "interfaces": {"pairs": [{"between": ["top", "bottom"], "kind": kind}]},
+           "output": {"files": [os.path.join(folder, "mesh.inp")]}}
+    result = oraclemesh.run(job)
+    points, tets = np.asarray(result.points), np.asarray(result.tets)
+    top_nodes = set(np.unique(tets[np.asarray(result.tet_materials) == 1]).tolist())
+    fixed = [i + 1 for i, p in enumerate(points) if abs(p[0]) < 1e-9]
+    tip = [i + 1 for i, p in enumerate(points) if abs(p[0] - 200) < 1e-9]
+    lines = ["*INCLUDE, INPUT=mesh.inp", "*NSET, NSET=Nfix"] + node_lines(fixed)
+    lines += ["*NSET, NSET=Ntip"] + node_lines(tip)
+    lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
+              "*STEP, INC=100", "*STATIC", "1., 1.", "*BOUNDARY", "Nfix, 1, 3"]
+    if load == "down":
+        exterior = next(s["faces"] for s in result.surfaces if s["name"] == "Exterior_top")
+        top = [(t, f) for t, f in exterior if np.allclose(points[tets[t, list(FACES[f])], 2], 10, atol=1e-9)]
+        area = sum(0.5 * np.linalg.norm(np.cross(c[1] - c[0], c[2] - c[0]))
+                   for c in (points[tets[t, list(FACES[f])]] for t, f in top))
+        assert area == pytest.approx(4000, rel=1e-9)
+        lines += ["*SURFACE, NAME=Load, TYPE=ELEMENT"] + ["%d, S%d" % (t + 1, f + 1) for t, f in top]
+        lines += ["*DLOAD", "Load, P, %.12g" % (100.0 / area)]
+    else:  # 100 N up, shared by the top plate's nodes on its tip face
+        pull = [n for n in tip if n - 1 in top_nodes]
+        lines += ["*CLOAD"] + ["%d, 3, %.12g" % (n, 100.0 / len(pull)) for n in pull]
+    lines += ["*NODE PRINT, NSET=Ntip", "U", "*END STEP"]
+    with open(os.path.join(folder, "job.inp"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    run = subprocess.run(["ccx", "job"], cwd=folder, capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
+    with open(os.path.join(folder, "job.dat")) as f:
+        last = f.read().split("displacements")[-1]  # the last converged increment
+    u = {}
+    for line in last.splitlines():
+        v = line.split()
+        if len(v) == 4 and v[0].isdigit():
+            u[int(v[0])] = float(v[3])
+    on_top = np.array([n - 1 in top_nodes for n in tip])
+    return result, np.array([u[n] for n in tip]), on_top
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    require_programs({"ccx": "calculix-ccx"})
+    return str(tmp_path_factory.mktemp("interface_kinds"))
+
+
+@pytest.fixture(scope="module")
+def deflections(folder):
+    return {kind: solve(os.path.join(folder, kind), kind, "down") for kind in ("bonded", "tied", "contact")}
+
+
+def test_bonded_and_tied_bend_as_one_beam(deflections):
+    bonded = -deflections["bonded"][1].mean()
+    tied = -deflections["tied"][1].mean()
+    print("tip deflection bonded %.5f tied %.5f Euler-Bernoulli %.5f mm" % (bonded, tied, EULER_BERNOULLI))
+    # The tie really joins separate nodes: the tied mesh has one copy per interface node.
+    assert len(deflections["tied"][0].points) > len(deflections["bonded"][0].points) + 1000
+    assert deflections["tied"][0].report["interfaces"][0]["kind"] == "tied"
+    assert tied == pytest.approx(bonded, rel=0.02)
+    assert bonded == pytest.approx(EULER_BERNOULLI, rel=0.03)
+    assert tied == pytest.approx(EULER_BERNOULLI, rel=0.03)
+
+
+def test_frictionless_contact_bends_as_two_beams(deflections):
+    uz, on_top = deflections["contact"][1], deflections["contact"][2]
+    contact = -uz.mean()
+    print("tip deflection contact %.5f = %.3f x Euler-Bernoulli of the 10 mm beam" % (contact, contact / EULER_BERNOULLI))
+    assert contact == pytest.approx(4.0 * EULER_BERNOULLI, rel=0.03)
+    # Pressed together: the plates stay in contact at the tip (no gap, no overlap beyond 1 %).
+    assert abs(uz[on_top].mean() - uz[~on_top].mean()) < 0.01 * contact
+
+
+def test_contact_lets_the_plates_separate(folder):
+    _, uz, on_top = solve(os.path.join(folder, "pulled"), "contact", "up")
+    print("pulled apart: top plate tip %.5f, bottom plate tip %.3g mm" % (uz[on_top].mean(), np.abs(uz[~on_top]).max()))
+    # The top plate alone (5 mm, 100 N at its tip: F L^3 / 3 E I = 6.1 mm) lifts off...
+    assert uz[on_top].mean() > 0.5 * 100.0 * 200.0 ** 3 / (3 * 210000.0 * 20 * 5.0 ** 3 / 12)
+    # ...and the unloaded bottom plate stays put.
+    assert np.abs(uz[~on_top]).max() < 1e-3 * uz[on_top].mean()
