@@ -4,6 +4,7 @@
 // and it shrinks them a loop at a time without end (this job ran into its time limit in the
 // feature protection before). The copies are now one curve, so the job finishes in seconds
 // with every circle a single chain of mesh edges and the volumes right.
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -69,6 +70,38 @@ TEST(CloseFeatures, PartsInContactAlongACircleMeshWithEveryCircleAsMeshEdges) {
   }
   std::cout << "[ figures  ] " << mesh.tets.size() << " tets, " << mesh.feature_edges.size() << " feature edges, "
             << seconds << " s; seconds " << result.report.at("seconds").dump() << "\n";
+}
+
+// A box standing on another and overhanging its edge by 1: the upper box's bottom edges cross
+// the lower box's top edge at (2, 10, 10) and (8, 10, 10), 1 and 2 from the curves' ends. Both
+// curves are creases of the assembly on either side of the crossing, so each crossing must be
+// a mesh vertex where four chains of feature edges meet. Cell sizes 3 and 5 once ended in an
+// internal error (the crossing taken for a T, a zero-length feature edge at (8, 10, 10)).
+TEST(CloseFeatures, EdgesOfTouchingBoxesCrossingNearTheirEndsMeetAtAMeshVertex) {
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(2, 3, 10), 6, 8, 5).Shape();
+  for (double size : {3.0, 5.0}) {
+    const nlohmann::json job = {{"inputs",
+                                 {{{"name", "lower"}, {"brep", test::brepText(lower)}, {"material", 1}},
+                                  {{"name", "upper"}, {"brep", test::brepText(upper)}, {"material", 2}}}},
+                                {"criteria", {{"default", {{"cell_size", size}}}}},
+                                {"seed", 0}};
+    const JobResult result = runJob(JobSpec::fromJson(job, ""), RunControl());
+    const TetMesh& mesh = result.mesh;
+    EXPECT_EQ(test::featureEdgesNotTetEdges(mesh), 0) << "cell size " << size;
+    for (const Point3& crossing : {Point3{2, 10, 10}, Point3{8, 10, 10}}) {
+      int64_t vertex = -1;
+      for (size_t v = 0; v < mesh.points.size(); ++v)
+        if (distance(mesh.points[v], crossing) < 1e-9) vertex = static_cast<int64_t>(v);
+      ASSERT_GE(vertex, 0) << "no mesh vertex at the crossing, cell size " << size;
+      int chains = 0;
+      for (const auto& [a, b] : mesh.feature_edges) chains += a == vertex || b == vertex;
+      EXPECT_EQ(chains, 4) << "cell size " << size;
+    }
+    const std::map<int, double> volumes = test::volumePerMaterial(mesh);
+    EXPECT_NEAR(volumes.at(1), 1000.0, 1e-9 * 1000) << "cell size " << size;
+    EXPECT_NEAR(volumes.at(2), 240.0, 1e-9 * 240) << "cell size " << size;
+  }
 }
 
 }  // namespace

@@ -53,6 +53,21 @@ TEST(RuleSetQ, CadCurvesCrossingMidSegmentShareTheCrossing) {
   EXPECT_EQ(splitAtCrossings(graph, 1e-9).polylines.size(), 2u);
 }
 
+TEST(RuleSetQ, CurvesCrossingNearTheirEndsAreSplitNotTakenForATee) {
+  // A box's top edge (y = 10) and the bottom edge (x = 8) of a box standing on it and
+  // overhanging by 1: they cross 2 from one end and 1 from the other, closer than the T
+  // clearance (100 x the curve tolerance) of the meeting point, yet neither ends on the other.
+  FeatureGraph graph;
+  graph.polylines = {cadCurve({{0, 10, 10}, {2.5, 10, 10}, {5, 10, 10}, {7.5, 10, 10}, {10, 10, 10}}, 1),
+                     cadCurve({{8, 3, 10}, {8, 5, 10}, {8, 7, 10}, {8, 9, 10}, {8, 11, 10}}, 2)};
+  const FeatureGraph split = splitAtCrossings(graph, 1e-9, 0.05, 1);
+  ASSERT_EQ(split.polylines.size(), 4u);
+  int atCrossing = 0;
+  for (const FeaturePolyline& pl : split.polylines)
+    for (const Point3& p : {pl.points.front(), pl.points.back()}) atCrossing += p == Point3{8, 10, 10};
+  EXPECT_EQ(atCrossing, 4);
+}
+
 TEST(RuleSetQ, CurvesLeavingACommonVertexAtASmallAngleAreNotSplit) {
   // Two curves from the origin 2 degrees apart, sampled every unit: their chords come within
   // the tolerance of each other near the vertex, which is no crossing.

@@ -119,6 +119,20 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           const Point3 endOfFirst = nearestEnd(first, onFirst), endOfSecond = nearestEnd(second, onSecond);
           const bool atEndOfFirst = distance(endOfFirst, onFirst) <= endClearance;
           const bool atEndOfSecond = distance(endOfSecond, onSecond) <= endClearance;
+          // Both ends near the meeting point: the curves meet at their ends (an L), unless
+          // neither end lies on the other curve: then they cross a short way from both ends
+          // (an overhanging box's bottom edge across the top edge of the box it stands on).
+          auto liesOn = [&](const Point3& end, const FeaturePolyline& other) {
+            return distance(nearestOnPolyline(other.points, end), end) <= curveTolerance;
+          };
+          const bool crossingNearBothEnds =
+              atEndOfFirst && atEndOfSecond && !liesOn(endOfFirst, second) && !liesOn(endOfSecond, first);
+          if (crossingNearBothEnds) {
+            const Point3 meeting = 0.5 * (onFirst + onSecond);
+            inserts[i][a].push_back(meeting);
+            inserts[j][b].push_back(meeting);
+            continue;
+          }
           if (atEndOfFirst && atEndOfSecond) continue;
           if (atEndOfFirst) {  // a T: the first curve ends on the second one
             inserts[j][b].push_back(endOfFirst);

@@ -25,7 +25,9 @@ namespace oraclemesh {
 //   `curveTolerance` (their chords stray from the exact curves by the sampling sagitta) at an
 //   angle of at least a degree (nearer to parallel they are tangent, not crossing): there both
 //   are split at the middle of the closest points. Where one ends on the other (within
-//   100 x curveTolerance: a T), the other is split at that end point. Within
+//   100 x curveTolerance: a T), the other is split at that end point; where both ends are that
+//   near, they meet at their ends, unless neither end lies on the other curve (within
+//   curveTolerance): then they cross near both ends and are split at the crossing. Within
 //   `sharedEndClearance` of an end both share, nothing is split: curves leaving a B-rep vertex
 //   at a small angle stay close for a while without crossing. Two CAD curves that share a
 //   stretch (a segment of one lies on the other: edges of parts in contact along the same
