@@ -132,5 +132,51 @@ TEST(SelfCheck, PartInTwoPiecesIsReported) {
   EXPECT_EQ(checkMeshAgainstInputs(touching, oracle, measureQuality(touching).volume_per_material).materials.at(1).components, 1);
 }
 
+nlohmann::json twoBoxesJob(double gap, double cellSize) {
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 10 + gap), 10, 10, 10).Shape();
+  return {{"inputs",
+           {{{"name", "lower"}, {"brep", test::brepText(lower)}, {"material", 1}},
+            {{"name", "upper"}, {"brep", test::brepText(upper)}, {"material", 2}}}},
+          {"criteria", {{"default", {{"cell_size", cellSize}}}}},
+          {"seed", 0}};
+}
+
+// Two cubes 0.5 apart meshed with cells of 5: tetrahedra reach across the gap and bond them.
+// Each node of the faces between them is on one cube and 0.5 from the other.
+TEST(SelfCheck, PartsJoinedAcrossAGapAreReported) {
+  const JobResult result = runJob(JobSpec::fromJson(twoBoxesJob(0.5, 5), "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_FALSE(check.at("ok").get<bool>());
+  ASSERT_EQ(check.at("joined").size(), 1u) << check.dump(1);
+  const json& joined = check.at("joined")[0];
+  EXPECT_EQ(joined.at("materials"), json::array({1, 2}));
+  EXPECT_NEAR(joined.at("widest_gap").get<double>(), 0.5, 1e-9);
+  EXPECT_GT(joined.at("joined_area").get<double>(), 0.0);
+  // Every face between them crosses the gap: none lies where the cubes touch, for they do not.
+  EXPECT_NEAR(joined.at("joined_area").get<double>(), joined.at("interface_area").get<double>(), 1e-9);
+  json job = twoBoxesJob(0.5, 5);
+  job["checks"] = "error";
+  try {
+    runJob(JobSpec::fromJson(job, "."), RunControl());
+    FAIL() << "a mesh bonding two cubes 0.5 apart was accepted";
+  } catch (const MeshCheckError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("materials 1 ('lower') and 2 ('upper') are joined across a gap"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("up to 0.5 away"), std::string::npos) << message;
+  }
+}
+
+// Cubes that touch share their interface exactly: every node on it lies on both.
+TEST(SelfCheck, TouchingPartsAreNotJoinedAcrossAGap) {
+  const JobResult result = runJob(JobSpec::fromJson(twoBoxesJob(0, 5), "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_TRUE(check.at("joined").empty()) << check.dump(1);
+  EXPECT_TRUE(check.at("ok").get<bool>()) << check.dump(1);
+  ASSERT_EQ(result.report.at("interfaces").size(), 1u);
+  EXPECT_NEAR(result.report.at("interfaces")[0].at("area").get<double>(), 100.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace oraclemesh

@@ -133,9 +133,18 @@ json selfCheckJson(const MeshSelfCheck& check, MeshCheckMode mode) {
                                     {"deviation", c.deviation},
                                     {"components", c.components},
                                     {"max_components", c.max_components}};
+  json joined = json::array();
+  for (const JoinedAcrossGap& j : check.joined)
+    joined.push_back({{"materials", {j.material, j.other_material}},
+                      {"interface_area", j.interface_area},
+                      {"joined_area", j.joined_area},
+                      {"widest_gap", j.widest_gap},
+                      {"widest_at", j.widest_at}});
   return {{"mode", mode == MeshCheckMode::Error ? "error" : "warn"},
           {"volume_tolerance", check.volume_tolerance},
           {"materials", materials},
+          {"contact_tolerance", check.contact_tolerance},
+          {"joined", joined},
           {"problems", check.problems},
           {"ok", check.problems.empty()}};
 }

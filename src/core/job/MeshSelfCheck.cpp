@@ -151,8 +151,9 @@ std::string percent(double fraction) {
 }  // namespace
 
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                     const std::map<int, double>& volume_per_material) {
+                                     const std::map<int, double>& volume_per_material, double contact_tolerance) {
   MeshSelfCheck check;
+  check.contact_tolerance = contact_tolerance > 0 ? contact_tolerance : 1e-6 * oracle.diagonal();
   struct Entries {
     std::vector<std::string> names;
     bool piecesKnown = true;  // every entry a B-rep solid that nothing higher cuts into
@@ -204,6 +205,19 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
       check.problems.push_back(who + " is meshed as " + std::to_string(c.components) + " separate pieces but is " +
                                std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
                                "than its elements; " + finer);
+  }
+  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance);
+  for (const JoinedAcrossGap& j : check.joined) {
+    if (j.joined_area <= check.volume_tolerance * j.interface_area) continue;
+    std::ostringstream message;
+    message << "materials " << j.material << " (" << check.materials[j.material].parts << ") and " << j.other_material
+            << " (" << check.materials[j.other_material].parts << ") are joined across a gap: "
+            << percent(j.joined_area / j.interface_area) << " of the mesh faces between them (" << j.joined_area
+            << " of " << j.interface_area << " model units^2) have a node up to " << j.widest_gap
+            << " away from one of the parts (near (" << j.widest_at[0] << ", " << j.widest_at[1] << ", "
+            << j.widest_at[2] << ")), so the mesh bonds parts that do not touch; give them a cell_size and facet_size "
+            << "near the gap's width (criteria.materials), or close or widen the gap in the CAD";
+    check.problems.push_back(message.str());
   }
   return check;
 }

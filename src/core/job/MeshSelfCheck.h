@@ -11,6 +11,7 @@
 
 #include "Error.h"
 #include "domain/HierarchicalOracle.h"
+#include "job/JoinedParts.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -35,6 +36,9 @@ class MeshCheckError : public InputError {
 struct MeshSelfCheck {
   double volume_tolerance = 0.01;  // relative; the error bar widens it where it is larger
   std::map<int, MaterialVolumeCheck> materials;
+  // A vertex between two parts this far from either is across a gap (model units).
+  double contact_tolerance = 0;
+  std::vector<JoinedAcrossGap> joined;  // pairs of parts the mesh joins where they do not touch
   std::vector<std::string> problems;  // one sentence each: the part, the figure, the fix
 };
 
@@ -42,7 +46,10 @@ struct MeshSelfCheck {
 // (Source::volume; OpenCASCADE's for B-reps); where a higher-priority entry or a cut may
 // overlap one, the overlap is measured along jittered rays through the boxes they share, cut
 // exactly by the sources' crossings, and subtracted, with its error bar. `volume_per_material` is the mesh's (QualityReport).
+// Parts joined across a gap (findPartsJoinedAcrossGaps with `contact_tolerance`; 0 = 1e-6 of
+// the diagonal) are a problem when more than volume_tolerance of their interface is joined.
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                     const std::map<int, double>& volume_per_material);
+                                     const std::map<int, double>& volume_per_material,
+                                     double contact_tolerance = 0);
 
 }  // namespace oraclemesh

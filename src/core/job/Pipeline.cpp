@@ -1,5 +1,6 @@
 #include "job/Pipeline.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -107,7 +108,9 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("check", 0);
   report.checks = job.checks;
-  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material);
+  // Nodes the snap had to leave off the CAD are that far from their part where it touches another.
+  const double contactTolerance = std::max(1e-6 * diagonal, snap.statistics.max_distance_kept);
+  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material, contactTolerance);
   clock.finish("check");
   if (!report.self_check.problems.empty()) {
     if (job.checks == MeshCheckMode::Error) {

@@ -1,0 +1,33 @@
+#pragma once
+// Parts the mesh joins where the inputs do not touch. A tetrahedron that reaches across a gap
+// narrower than itself ties two parts together: the mesh shares nodes there, the solver bonds
+// them, and neither volume need change by as much as 1 %. Every vertex of a mesh face between
+// two parts lies on both parts' boundaries where they touch (the snap puts it on the CAD), so
+// a face none of whose vertices is on both parts lies across a gap. (One or two vertices off
+// is what a face at the edge of a contact has when the mesh's interface edge is a chord away
+// from the CAD's, as where no feature curve marks it.)
+#include <vector>
+
+#include "Geometry.h"
+#include "domain/HierarchicalOracle.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+struct JoinedAcrossGap {
+  int material = 0;            // the smaller id of the two
+  int other_material = 0;
+  double interface_area = 0;   // of all mesh faces between the two materials
+  double joined_area = 0;      // of those with no vertex within the tolerance of both parts
+  double widest_gap = 0;       // the largest over those faces of their vertices' smallest distance
+                               // from the farther part: about the gap's width
+  Point3 widest_at{};          // that vertex
+};
+
+// One entry per pair of materials sharing mesh faces none of whose vertices is within
+// `tolerance` of the closures of both materials' inputs (inside an input, or on its boundary
+// to `tolerance`); sorted by material pair.
+std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
+                                                       double tolerance);
+
+}  // namespace oraclemesh
