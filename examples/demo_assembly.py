@@ -64,7 +64,8 @@ def main():
 
     report = json.loads(mesh.Report)
     fm = mesh.FemMesh
-    groups = {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups}
+    groups = {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups
+              if fm.getGroupElementType(g) == "Volume"}
     report["fem"] = {"groups": groups, "max_displacement_mm": max_disp,
                      "ccx_input": ccx_inp, "seconds": {"mesh_in_freecad": mesh_seconds,
                                                        "calculix": ccx_seconds}}

@@ -33,6 +33,8 @@ def group_volumes(mesh_obj):
     nodes = fm.Nodes
     out = {}
     for g in fm.Groups:
+        if fm.getGroupElementType(g) != "Volume":
+            continue  # the interfaces' and exteriors' face groups
         elements = fm.getGroupElements(g)
         ids = sorted({n for e in elements for n in fm.getElementNodes(e)})
         index = {n: k for k, n in enumerate(ids)}
@@ -46,7 +48,8 @@ def group_volumes(mesh_obj):
 def mesh_state(mesh_obj):
     fm = mesh_obj.FemMesh
     return {"nodes": fm.NodeCount, "volumes": fm.VolumeCount,
-            "groups": {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups},
+            "groups": {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups
+                       if fm.getGroupElementType(g) == "Volume"},
             "feature_edges": len(mesh_obj.FeatureEdges) // 2}
 
 

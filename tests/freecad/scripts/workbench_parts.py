@@ -49,7 +49,8 @@ def check(params):
     if not mesh.isValid():
         raise RuntimeError(mesh.Status)
     fm = mesh.FemMesh
-    out["groups"] = {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups}
+    out["groups"] = {fm.getGroupName(g): len(fm.getGroupElements(g)) for g in fm.Groups
+                     if fm.getGroupElementType(g) == "Volume"}
     out["feature_edges"] = len(mesh.FeatureEdges) // 2
     out["feature_edge_nodes_exist"] = all(i in fm.Nodes for i in mesh.FeatureEdges)
     report = json.loads(mesh.Report)
