@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -196,6 +197,54 @@ TEST(InterfaceSplit, ContactPairIsWrittenAsCalculixContact) {
   EXPECT_EQ(text.find("*STEP"), std::string::npos);
   EXPECT_EQ(r.report["interfaces"][0]["master"], "Interface_Lower_Upper");
   EXPECT_EQ(r.report["interfaces"][0]["friction"], 0.2);
+  // No slope in the job: the steel default 2.5 E / h, h the mean edge of the interface faces.
+  double edges = 0;
+  const MeshSurface& front = surfaceNamed(r, "Interface_Lower_Upper");
+  for (const ElementFace& f : front.faces)
+    for (int k = 0; k < 3; ++k) {
+      const auto& c = kCalculixTetFaces[f.face];
+      const Point3 &a = r.mesh.points[r.mesh.tets[f.tet][c[k]]], &b = r.mesh.points[r.mesh.tets[f.tet][c[(k + 1) % 3]]];
+      edges += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    }
+  const double h = edges / (3.0 * static_cast<double>(front.faces.size()));
+  EXPECT_NEAR(r.report["interfaces"][0]["contact_stiffness"].get<double>(), 2.5 * 210000 / h, 1e-9 * 210000 / h);
+  EXPECT_NE(text.find("slope 2.5 E / h for steel"), std::string::npos);
+  std::filesystem::remove(inp);
+}
+
+std::string fileText(const std::string& path) {
+  std::ifstream file(path);
+  return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+// The job's contact slope reaches the *SURFACE BEHAVIOR card and the report: the pair's own,
+// else interfaces.contact_stiffness for every contact pair.
+TEST(InterfaceSplit, ContactStiffnessFromTheJobIsTheCardsSlope) {
+  const std::string inp = (std::filesystem::temp_directory_path() / "oraclemesh_split_stiffness.inp").string();
+  json job = twoBoxesJob(1);
+  job["interfaces"] = {{"contact_stiffness", 1234.5},
+                       {"pairs", {{{"between", {"Lower", "Upper"}}, {"kind", "contact"}, {"contact_stiffness", 25.0},
+                                   {"friction", 0.3}}}}};
+  job["output"] = {{"files", {inp}}};
+  JobResult r = run(job);
+  std::string text = fileText(inp);
+  // The stick slope of the friction: 1/100 of the normal slope.
+  EXPECT_NE(text.find("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n25\n*FRICTION\n0.3, 0.25\n"), std::string::npos);
+  EXPECT_NE(text.find("slope from the job's interfaces contact_stiffness"), std::string::npos);
+  EXPECT_EQ(r.report["interfaces"][0]["contact_stiffness"], 25.0);
+
+  job["interfaces"]["pairs"][0].erase("contact_stiffness");
+  r = run(job);
+  text = fileText(inp);
+  EXPECT_NE(text.find("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1234.5\n"), std::string::npos);
+  EXPECT_EQ(r.report["interfaces"][0]["contact_stiffness"], 1234.5);
+
+  // The default slope also applies to pairs in contact through interfaces.default.
+  job["interfaces"] = {{"default", "contact"}, {"contact_stiffness", 777.0}};
+  r = run(job);
+  text = fileText(inp);
+  EXPECT_NE(text.find("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n777\n"), std::string::npos);
+  EXPECT_EQ(r.report["interfaces"][0]["contact_stiffness"], 777.0);
   std::filesystem::remove(inp);
 }
 
@@ -215,6 +264,17 @@ TEST(InterfaceSplit, InterfaceSettingErrorsNameThePathAndTheFix) {
                              ">= 0 (0 = frictionless)");
   job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "tied"}, {"friction", 0.1}}}}};
   EXPECT_NE(parseError(job).find("interfaces.pairs[0].friction belongs to kind \"contact\" only"), std::string::npos);
+  const std::string slopeFix = ": give the contact pressure per unit of overclosure (force / length^3 in the model's "
+                               "units, e.g. N/mm^3), > 0";
+  job["interfaces"] = {{"contact_stiffness", 0}};
+  EXPECT_EQ(parseError(job), "interfaces.contact_stiffness = 0 is not a positive finite number" + slopeFix);
+  job["interfaces"] = {{"contact_stiffness", "stiff"}};
+  EXPECT_EQ(parseError(job), "interfaces.contact_stiffness must be a number, got \"stiff\"" + slopeFix);
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "contact"}, {"contact_stiffness", -5}}}}};
+  EXPECT_EQ(parseError(job), "interfaces.pairs[0].contact_stiffness = -5 is not a positive finite number" + slopeFix);
+  job["interfaces"] = {{"pairs", {{{"between", {"a", "b"}}, {"kind", "tied"}, {"contact_stiffness", 5}}}}};
+  EXPECT_NE(parseError(job).find("interfaces.pairs[0].contact_stiffness belongs to kind \"contact\" only"),
+            std::string::npos);
   job["interfaces"] = {{"pairs", {{{"between", {"a", "a"}}, {"kind", "tied"}}}}};
   EXPECT_NE(parseError(job).find("interfaces.pairs[0].between names part 'a' twice"), std::string::npos);
   job["interfaces"] = {{"pairs", {{{"between", {"a"}}, {"kind", "tied"}}}}};

@@ -33,15 +33,33 @@ def node_lines(nodes):
     return [", ".join(map(str, nodes[k:k + 8])) for k in range(0, len(nodes), 8)]
 
 
-def solve(folder, kind, load):
-    """Meshes the plates with `kind` between them, runs ccx; returns (result, tip node ids,
-    their uz, which of them belong to the top plate)."""
+def outer_face(result, part, z):
+    """The faces of Exterior_<part> in the plane z, as (tet, face) pairs, and their area."""
+    points, tets = np.asarray(result.points), np.asarray(result.tets)
+    exterior = next(s["faces"] for s in result.surfaces if s["name"] == "Exterior_" + part)
+    faces = [(t, f) for t, f in exterior if np.allclose(points[tets[t, list(FACES[f])], 2], z, atol=1e-9)]
+    area = sum(0.5 * np.linalg.norm(np.cross(c[1] - c[0], c[2] - c[0]))
+               for c in (points[tets[t, list(FACES[f])]] for t, f in faces))
+    return faces, area
+
+
+def pressure_lines(name, faces, pressure):
+    return (["*SURFACE, NAME=%s, TYPE=ELEMENT" % name] + ["%d, S%d" % (t + 1, f + 1) for t, f in faces]
+            + ["*DLOAD", "%s, P, %.12g" % (name, pressure)])
+
+
+def solve(folder, pair, load, squeeze=0.0, interfaces=None):
+    """Meshes the plates with `pair` (the interfaces.pairs entry without "between", e.g.
+    {"kind": "contact", "friction": 0.3}) between them, runs ccx; returns (result, uz of the
+    tip nodes, which of them belong to the top plate). `squeeze`: a pressure (N/mm^2) on the
+    top plate's top face and the bottom plate's bottom face, pressing them together (it bends
+    neither); `interfaces`: more keys of the job's "interfaces"."""
     os.makedirs(folder, exist_ok=True)
     job = {"inputs": [{"name": "top", "brep": plate_brep(5.0), "material": 1},
                       {"name": "bottom", "brep": plate_brep(0.0), "material": 2}],
            "criteria": {"default": {"cell_size": 5, "facet_size": 5}},
            "element_order": 2, "seed": 0,
-           "interfaces": {"pairs": [{"between": ["top", "bottom"], "kind": kind}]},
+           "interfaces": dict(interfaces or {}, pairs=[dict(pair, between=["top", "bottom"])]),
            "output": {"files": [os.path.join(folder, "mesh.inp")]}}
     result = oraclemesh.run(job)
     points, tets = np.asarray(result.points), np.asarray(result.tets)
@@ -53,13 +71,13 @@ def solve(folder, kind, load):
     lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
               "*STEP, INC=100", "*STATIC", "1., 1.", "*BOUNDARY", "Nfix, 1, 3"]
     if load == "down":
-        exterior = next(s["faces"] for s in result.surfaces if s["name"] == "Exterior_top")
-        top = [(t, f) for t, f in exterior if np.allclose(points[tets[t, list(FACES[f])], 2], 10, atol=1e-9)]
-        area = sum(0.5 * np.linalg.norm(np.cross(c[1] - c[0], c[2] - c[0]))
-                   for c in (points[tets[t, list(FACES[f])]] for t, f in top))
+        top, area = outer_face(result, "top", 10)
         assert area == pytest.approx(4000, rel=1e-9)
-        lines += ["*SURFACE, NAME=Load, TYPE=ELEMENT"] + ["%d, S%d" % (t + 1, f + 1) for t, f in top]
-        lines += ["*DLOAD", "Load, P, %.12g" % (100.0 / area)]
+        lines += pressure_lines("Load", top, 100.0 / area + squeeze)
+        if squeeze:
+            bottom, area = outer_face(result, "bottom", 0)
+            assert area == pytest.approx(4000, rel=1e-9)
+            lines += pressure_lines("Squeeze", bottom, squeeze)
     else:  # 100 N up, shared by the top plate's nodes on its tip face
         pull = [n for n in tip if n - 1 in top_nodes]
         lines += ["*CLOAD"] + ["%d, 3, %.12g" % (n, 100.0 / len(pull)) for n in pull]
@@ -87,7 +105,7 @@ def folder(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def deflections(folder):
-    return {kind: solve(os.path.join(folder, kind), kind, "down") for kind in ("bonded", "tied", "contact")}
+    return {kind: solve(os.path.join(folder, kind), {"kind": kind}, "down") for kind in ("bonded", "tied", "contact")}
 
 
 def test_bonded_and_tied_bend_as_one_beam(deflections):
@@ -112,9 +130,29 @@ def test_frictionless_contact_bends_as_two_beams(deflections):
 
 
 def test_contact_lets_the_plates_separate(folder):
-    _, uz, on_top = solve(os.path.join(folder, "pulled"), "contact", "up")
+    _, uz, on_top = solve(os.path.join(folder, "pulled"), {"kind": "contact"}, "up")
     print("pulled apart: top plate tip %.5f, bottom plate tip %.3g mm" % (uz[on_top].mean(), np.abs(uz[~on_top]).max()))
     # The top plate alone (5 mm, 100 N at its tip: F L^3 / 3 E I = 6.1 mm) lifts off...
     assert uz[on_top].mean() > 0.5 * 100.0 * 200.0 ** 3 / (3 * 210000.0 * 20 * 5.0 ** 3 / 12)
     # ...and the unloaded bottom plate stays put.
     assert np.abs(uz[~on_top]).max() < 1e-3 * uz[on_top].mean()
+
+
+def test_a_softer_contact_slope_lets_the_top_plate_sink_into_the_bottom(folder, deflections):
+    """interfaces.contact_stiffness (issue 19): a penalty slope of 0.01 N/mm^3, about the
+    bending stiffness per area of a 5 mm plate (8 E I / L^4 / width = 0.011 N/mm^3), instead of
+    the steel default (1e5 N/mm^3 for these 5 mm faces): the contact passes less of the load
+    to the bottom plate, so the top plate sinks deeper into it, the bottom one less far."""
+    result, uz, on_top = solve(os.path.join(folder, "soft"), {"kind": "contact", "contact_stiffness": 0.01}, "down")
+    assert result.report["interfaces"][0]["contact_stiffness"] == 0.01
+    _, uz_default, on_top_default = deflections["contact"]
+    top, bottom = -uz[on_top].mean(), -uz[~on_top].mean()
+    top_default, bottom_default = -uz_default[on_top_default].mean(), -uz_default[~on_top_default].mean()
+    print("tip deflection with slope 0.01: top %.4f bottom %.4f mm; default slope: top %.4f bottom %.4f mm"
+          % (top, bottom, top_default, bottom_default))
+    assert top > 1.2 * top_default
+    assert 0 < bottom < 0.8 * bottom_default
+    # Still bounded by the top plate carrying all 100 N alone (8x the 10 mm beam's deflection).
+    assert top < 8 * EULER_BERNOULLI
+    # The overlap at the tip, nil with the default slope, is now a good part of a millimetre.
+    assert top - bottom > 0.1

@@ -24,6 +24,7 @@ InterfacePlan resolveInterfaces(const InterfacesSpec& spec, const MaterialNames&
   for (const auto& [material, name] : names) materialOf.emplace(name, material);
   InterfacePlan plan;
   plan.default_behaviour.kind = spec.default_kind;
+  plan.default_behaviour.contact_stiffness = spec.default_contact_stiffness;
   for (size_t i = 0; i < spec.pairs.size(); ++i) {
     const InterfacePairSpec& pair = spec.pairs[i];
     int ids[2] = {0, 0};
@@ -38,6 +39,8 @@ InterfacePlan resolveInterfaces(const InterfacesSpec& spec, const MaterialNames&
     }
     InterfaceBehaviour behaviour = pair.behaviour;
     if (!pair.master.empty()) behaviour.master_material = materialOf.at(pair.master);
+    if (behaviour.kind == InterfaceKind::Contact && behaviour.contact_stiffness == 0)
+      behaviour.contact_stiffness = spec.default_contact_stiffness;
     plan.pairs[orderedPair(ids[0], ids[1])] = behaviour;
   }
   return plan;

@@ -235,14 +235,24 @@ InterfaceKind parseInterfaceKind(const json& value, const std::string& where) {
   throw InputError(where + " = " + shortDump(value) + " is not an interface kind: use " + kInterfaceKinds);
 }
 
-// {"default": "bonded", "pairs": [{"between": ["top", "bottom"], "kind": "contact", "friction": 0.2}]}
+// The contact slope at `where` (interfaces.contact_stiffness or a pair's).
+double parseContactStiffness(const json& value, const std::string& where) {
+  const std::string fix = "give the contact pressure per unit of overclosure (force / length^3 in the model's units, "
+                          "e.g. N/mm^3), > 0";
+  return jobjson::positiveNumber(value, where, fix);
+}
+
+// {"default": "bonded", "contact_stiffness": 1e4,
+//  "pairs": [{"between": ["top", "bottom"], "kind": "contact", "friction": 0.2, "contact_stiffness": 5e3}]}
 InterfacesSpec parseInterfaces(const json& value) {
   const std::string form = ": give {\"default\": \"bonded\", \"pairs\": [{\"between\": [\"top\", \"bottom\"], "
                            "\"kind\": \"contact\"}]} with parts named as in report.interfaces";
   if (!value.is_object()) throw InputError("'interfaces' must be an object" + form);
-  rejectUnknownKeys(value, {"default", "pairs"}, "interfaces");
+  rejectUnknownKeys(value, {"default", "contact_stiffness", "pairs"}, "interfaces");
   InterfacesSpec spec;
   if (value.contains("default")) spec.default_kind = parseInterfaceKind(value["default"], "interfaces.default");
+  if (value.contains("contact_stiffness"))
+    spec.default_contact_stiffness = parseContactStiffness(value["contact_stiffness"], "interfaces.contact_stiffness");
   if (!value.contains("pairs")) return spec;
   const json& pairs = value["pairs"];
   if (!pairs.is_array()) throw InputError("interfaces.pairs must be a list" + form);
@@ -251,7 +261,7 @@ InterfacesSpec parseInterfaces(const json& value) {
     const std::string where = "interfaces.pairs[" + std::to_string(i) + "]";
     const json& p = pairs[i];
     if (!p.is_object()) throw InputError(where + " must be an object like {\"between\": [\"top\", \"bottom\"], \"kind\": \"tied\"}");
-    rejectUnknownKeys(p, {"between", "kind", "friction", "master"}, where);
+    rejectUnknownKeys(p, {"between", "kind", "friction", "contact_stiffness", "master"}, where);
     InterfacePairSpec pair;
     const json& between = p.contains("between") ? p["between"] : json();
     if (!between.is_array() || between.size() != 2 || !between[0].is_string() || !between[1].is_string())
@@ -276,6 +286,12 @@ InterfacesSpec parseInterfaces(const json& value) {
       if (pair.behaviour.friction < 0)
         throw InputError(where + ".friction = " + shortDump(p["friction"]) +
                          " is negative: give a Coulomb friction coefficient >= 0 (0 = frictionless)");
+    }
+    if (p.contains("contact_stiffness")) {
+      if (pair.behaviour.kind != InterfaceKind::Contact)
+        throw InputError(where + ".contact_stiffness belongs to kind \"contact\" only (this pair is \"" +
+                         interfaceKindName(pair.behaviour.kind) + "\"): remove it or make the pair a contact");
+      pair.behaviour.contact_stiffness = parseContactStiffness(p["contact_stiffness"], where + ".contact_stiffness");
     }
     if (p.contains("master")) {
       if (pair.behaviour.kind != InterfaceKind::Tied && pair.behaviour.kind != InterfaceKind::Contact)

@@ -71,6 +71,8 @@ struct InterfacePairSpec {
 
 struct InterfacesSpec {
   InterfaceKind default_kind = InterfaceKind::Bonded;
+  // "contact_stiffness": the slope for every contact pair that gives none; 0 = not given.
+  double default_contact_stiffness = 0;
   std::vector<InterfacePairSpec> pairs;
 };
 

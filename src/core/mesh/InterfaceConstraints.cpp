@@ -87,7 +87,9 @@ std::vector<InterfaceConstraint> interfaceConstraints(const TetMesh& mesh, const
     c.name = inpName(std::string(behaviour.kind == InterfaceKind::Tied ? "Tie_" : "Contact_") +
                      materialName(names, a) + "_" + materialName(names, b));
     c.position_tolerance = 0.01 * shortestFaceEdge(mesh, *front);
-    c.contact_stiffness = 2.5 * kSteelYoungsModulus / meanFaceEdge(mesh, *front);
+    c.contact_stiffness_given = behaviour.contact_stiffness > 0;
+    c.contact_stiffness = c.contact_stiffness_given ? behaviour.contact_stiffness
+                                                    : 2.5 * kSteelYoungsModulus / meanFaceEdge(mesh, *front);
     result.push_back(c);
   }
   return result;
@@ -95,7 +97,7 @@ std::vector<InterfaceConstraint> interfaceConstraints(const TetMesh& mesh, const
 
 std::string calculixInterfaceCards(const std::vector<InterfaceConstraint>& constraints) {
   std::string cards;
-  char line[512];
+  char line[1024];  // three names of up to 80 characters and the comments
   for (const InterfaceConstraint& c : constraints) {
     if (c.behaviour.kind == InterfaceKind::Tied) {
       // ADJUST=NO: the slave nodes already sit on the master faces (they are copies of its nodes).
@@ -109,10 +111,13 @@ std::string calculixInterfaceCards(const std::vector<InterfaceConstraint>& const
     std::snprintf(line, sizeof line,
                   "** %s: surface-to-surface penalty contact, %s; CalculiX treats a step with contact as\n"
                   "** nonlinear (increments, contact iterations)\n"
-                  "** (slope 2.5 E / h for steel, E = 210000 N/mm^2; scale it for another material)\n"
+                  "** (%s)\n"
                   "*SURFACE INTERACTION, NAME=%s\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n%.6g\n",
-                  c.name.c_str(), c.behaviour.friction > 0 ? "with friction" : "frictionless", c.name.c_str(),
-                  c.contact_stiffness);
+                  c.name.c_str(), c.behaviour.friction > 0 ? "with friction" : "frictionless",
+                  c.contact_stiffness_given ? "slope from the job's interfaces contact_stiffness"
+                                            : "slope 2.5 E / h for steel, E = 210000 N/mm^2; for another material "
+                                              "set the job's interfaces contact_stiffness",
+                  c.name.c_str(), c.contact_stiffness);
     cards += line;
     if (c.behaviour.friction > 0) {
       // Stick slope: CalculiX needs one for face-to-face friction; a hundredth of the normal slope.

@@ -28,12 +28,14 @@ struct InterfaceConstraint {
   // so only rounding separates them; an element-size tolerance could also catch nodes of
   // faces across a thin gap or at a sharp fold of the interface.
   double position_tolerance = 0;
-  // Contact: the slope of CalculiX' linear pressure-overclosure law, 2.5 E / h with E = 210000
-  // (steel in N and mm) and h the mean edge length of the interface faces. HARD contact did not
-  // converge in CalculiX 2.20 once the surfaces open (two plates pulled apart: 6 cut-backs of
-  // 60 iterations each); this slope did (1e5 N/mm^3 for 5 mm faces). The mesher does not know
-  // the material: for another one scale the value in the INP with its E.
+  // Contact: the slope of CalculiX' linear pressure-overclosure law. The job's
+  // (interfaces.pairs[i].contact_stiffness, else interfaces.contact_stiffness) if it gives one,
+  // else 2.5 E / h with E = 210000 (steel in N and mm) and h the mean edge length of the
+  // interface faces. HARD contact did not converge in CalculiX 2.20 once the surfaces open (two
+  // plates pulled apart: 6 cut-backs of 60 iterations each); this slope did (1e5 N/mm^3 for
+  // 5 mm faces). The mesher does not know the material: for another one give the slope.
   double contact_stiffness = 0;
+  bool contact_stiffness_given = false;  // from the job, not the steel default
 };
 
 // One per pair that is tied or in contact and has faces on both sides in `surfaces`

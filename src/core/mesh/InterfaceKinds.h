@@ -17,6 +17,10 @@ const char* interfaceKindName(InterfaceKind kind);
 struct InterfaceBehaviour {
   InterfaceKind kind = InterfaceKind::Bonded;
   double friction = 0;  // Coulomb coefficient, contact only; 0 = frictionless
+  // Contact only: the slope of the linear pressure-overclosure law (pressure per overclosure,
+  // force / length^3) as the job gives it; 0 = the writer's steel default (see
+  // InterfaceConstraint::contact_stiffness).
+  double contact_stiffness = 0;
   // The part whose faces are the master side of a tie or contact; 0 = chosen by the writer
   // (the coarser side, see writeInp).
   int master_material = 0;
