@@ -1,6 +1,14 @@
-"""Export an OracleMesh mesh with its material groups: VTU (ParaView), INP (CalculiX/Abaqus,
-one ELSET per material group) and MSH (Gmsh 2.2, physical tag = material group), through
-meshio (Debian's python3-meshio).
+"""Export an OracleMesh mesh with its material groups and face groups: VTU (ParaView), INP
+(CalculiX/Abaqus) and MSH (Gmsh 2.2, physical tag = material group), through meshio
+(Debian's python3-meshio).
+
+Material (Volume) groups: cell data "material" (VTU; index k of group k, 1-based), one ELSET
+each (INP), the physical tag (MSH). Face groups (the interfaces and exteriors): in the VTU a
+second cell block of their face elements (triangle / triangle6) with cell data "face_group"
+(index k of face group k, 1-based; 0 on the tets, whose "material" is 0 on the faces) and a
+FieldData array per face group, name -> [k, 2] (as meshio keeps Gmsh's physical names); in
+the INP one *SURFACE, TYPE=ELEMENT each, over the faces of the tets (CalculiX S1..S4), the
+form loads and contact pairs refer to. The MSH has the volumes only.
 
 The mesh is read back from the object's FemMesh, so what is exported is what FreeCAD shows
 and solves; nodes and elements are renumbered 1..n in FemMesh id order.
@@ -9,7 +17,7 @@ import os
 
 import numpy as np
 
-from .handoff import CORE_TO_FREECAD
+from .handoff import CORE_TO_FREECAD, OUTWARD_FACE_CORNERS
 
 FORMATS = {  # extension -> (meshio format, file dialog filter)
     ".vtu": ("vtu", "VTK unstructured grid (*.vtu)"),
@@ -52,6 +60,56 @@ def mesh_arrays(femmesh):
     return points, tets, np.array(element_ids), material, names
 
 
+def _oriented_key(corners):
+    """A face's corners rotated to start at the smallest, keeping their cyclic order."""
+    k = corners.index(min(corners))
+    return tuple(corners[k:] + corners[:k])
+
+
+def face_groups(femmesh, tets):
+    """[(group name, faces (f, 2) = (tet row of `tets`, CalculiX face 0..3), face nodes
+    (f, 3|6) as point indices)] for every Face group, `tets` as mesh_arrays returns them.
+
+    The workbench's face elements have their corners ordered so that their normal points out
+    of the tet they belong to (handoff.surface_face_nodes): where two parts' tets share a face
+    (a bonded interface), that order tells whose face it is."""
+    groups = [g for g in femmesh.Groups if femmesh.getGroupElementType(g) == "Face"]
+    if not groups:
+        return []
+    index_of = {nid: k for k, nid in enumerate(sorted(femmesh.Nodes))}
+    owner = {}
+    for row, tet in enumerate(tets[:, :4].tolist()):
+        for face, corners in enumerate(OUTWARD_FACE_CORNERS):
+            owner[_oriented_key([tet[c] for c in corners])] = (row, face)
+    result = []
+    for g in groups:
+        name = femmesh.getGroupName(g)
+        elements = sorted(femmesh.getGroupElements(g))
+        if not elements:
+            continue  # nothing to write (and CalculiX rejects an empty *SURFACE)
+        nodes = np.array([[index_of[n] for n in femmesh.getElementNodes(e)] for e in elements],
+                         dtype=np.int64)
+        faces = []
+        for corners in nodes[:, :3].tolist():
+            found = owner.get(_oriented_key(corners))
+            if found is None:
+                raise ExportError("face group '%s': a face (nodes %s) is no face of the mesh's "
+                                  "tets, or its corners are not ordered outward; remesh to "
+                                  "renew the face groups" % (name, corners))
+            faces.append(found)
+        result.append((name, np.array(faces, dtype=np.int64).reshape(-1, 2), nodes))
+    return result
+
+
+def _inp_surfaces(surfaces):
+    """*SURFACE blocks over element faces: element id = tet row + 1, as meshio numbers them."""
+    lines = []
+    for name, faces, _ in surfaces:
+        lines.append("*SURFACE, NAME=%s, TYPE=ELEMENT" % name.replace(" ", "_"))
+        lines += ["%d, S%d" % (row + 1, face + 1) for row, face in faces.tolist()]
+    return "\n".join(lines) + "\n" if lines else ""
+
+
 def export_mesh(obj, path):
     """Write obj's FemMesh to path; the format follows the extension (.vtu, .inp, .msh)."""
     import meshio
@@ -61,17 +119,49 @@ def export_mesh(obj, path):
         raise ExportError("'%s': unknown extension, use one of %s"
                           % (path, ", ".join(sorted(FORMATS))))
     points, tets, _, material, names = mesh_arrays(obj.FemMesh)
+    surfaces = face_groups(obj.FemMesh, tets) if ext in (".vtu", ".inp") else []
     cell_type = "tetra10" if tets.shape[1] == 10 else "tetra"
+    cells = [(cell_type, tets)]
     cell_data = {"material": [material]}
     if ext == ".msh":
         cell_data = {"gmsh:physical": [material], "gmsh:geometrical": [material]}
+    if ext == ".vtu" and surfaces:
+        face_nodes = np.concatenate([nodes for _, _, nodes in surfaces])
+        group = np.concatenate([np.full(len(nodes), k + 1, dtype=np.int32)
+                                for k, (_, _, nodes) in enumerate(surfaces)])
+        cells.append(("triangle6" if face_nodes.shape[1] == 6 else "triangle", face_nodes))
+        cell_data = {"material": [material, np.zeros(len(group), dtype=np.int32)],
+                     "face_group": [np.zeros(len(tets), dtype=np.int32), group]}
     # Set names as FreeCAD's groups; INP set names may not contain spaces.
     cell_sets = {name.replace(" ", "_"): [np.flatnonzero(material == k + 1)]
                  for k, name in enumerate(names)}
-    mesh = meshio.Mesh(points, [(cell_type, tets)], cell_data=cell_data,
+    mesh = meshio.Mesh(points, cells, cell_data=cell_data,
                        cell_sets=cell_sets if ext == ".inp" else {})
     meshio.write(path, mesh, file_format=FORMATS[ext][0])
+    if ext == ".inp" and surfaces:
+        with open(path, "a") as f:
+            f.write(_inp_surfaces(surfaces))
+    if ext == ".vtu" and surfaces:
+        _add_vtu_field_data(path, [name for name, _, _ in surfaces])
     return path
+
+
+def _add_vtu_field_data(path, names):
+    """Names the face groups in the VTU's FieldData, name -> [index, 2] (Gmsh's [tag, dim]
+    as meshio keeps physical names): meshio 5.0 reads FieldData but does not write it."""
+    from xml.sax.saxutils import quoteattr
+
+    arrays = "".join('<DataArray type="Int32" Name=%s NumberOfTuples="2" format="ascii">%d 2'
+                     '</DataArray>\n' % (quoteattr(name), k + 1) for k, name in enumerate(names))
+    with open(path) as f:
+        text = f.read()
+    if text.count("<UnstructuredGrid>") != 1:
+        raise ExportError("%s: meshio wrote no single <UnstructuredGrid> to name the face "
+                          "groups in" % path)
+    text = text.replace("<UnstructuredGrid>", "<UnstructuredGrid>\n<FieldData>\n%s</FieldData>"
+                        % arrays, 1)
+    with open(path, "w") as f:
+        f.write(text)
 
 
 def export_dialog(obj):

@@ -64,6 +64,17 @@ def check(params):
     out["quality_count"] = len(angles)
     out["quality_groups"] = sorted(set(groups.tolist()))
 
+    # Face groups (interfaces, exteriors): area of the corner triangles of their face elements.
+    nodes = fm.Nodes
+    out["face_group_areas"] = {}
+    for g in fm.Groups:
+        if fm.getGroupElementType(g) != "Face":
+            continue
+        area = 0.0
+        for e in fm.getGroupElements(g):
+            c = [nodes[n] for n in fm.getElementNodes(e)[:3]]
+            area += 0.5 * (c[1] - c[0]).cross(c[2] - c[0]).Length
+        out["face_group_areas"][fm.getGroupName(g)] = area
     out["exports"] = {}
     for ext in (".vtu", ".inp", ".msh"):
         path = os.path.join(params["workdir"], "parts" + ext)
