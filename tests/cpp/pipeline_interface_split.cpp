@@ -248,6 +248,56 @@ TEST(InterfaceSplit, ContactStiffnessFromTheJobIsTheCardsSlope) {
   std::filesystem::remove(inp);
 }
 
+// A 10 mm cube A with B beside it (x 10..20) and C on top of it (z 10..20): A-B and A-C share
+// a face, B-C only the edge x = 10, z = 10. With A-C tied and the rest bonded, the nodes on
+// that edge belong to all three and stay shared by A and C through B; the report says so.
+TEST(InterfaceSplit, PartsJoinedThroughAThirdBondedToBothAreReported) {
+  auto box = [](double x, double z, const char* name, int material) {
+    return json{{"name", name}, {"brep", test::brepText(BRepPrimAPI_MakeBox(gp_Pnt(x, 0, z), 10, 10, 10).Shape())},
+                {"material", material}};
+  };
+  json job = {{"inputs", {box(0, 0, "A", 1), box(10, 0, "B", 2), box(0, 10, "C", 3)}},
+              {"criteria", {{"default", {{"cell_size", 3}, {"facet_size", 3}}}}},
+              {"element_order", 1},
+              {"seed", 0},
+              {"interfaces", {{"pairs", {{{"between", {"A", "C"}}, {"kind", "tied"}}}}}}};
+  const JobResult r = run(job);
+  const TetMesh& mesh = r.mesh;
+  // The corner nodes A and C still share: exactly the nodes on the edge of all three.
+  const std::set<int64_t> a = nodesOfMaterial(mesh, 1), c = nodesOfMaterial(mesh, 3), b = nodesOfMaterial(mesh, 2);
+  std::vector<int64_t> common;
+  std::set_intersection(a.begin(), a.end(), c.begin(), c.end(), std::back_inserter(common));
+  ASSERT_GE(common.size(), 4u);  // the 10 mm edge at size 3 has at least 4 nodes
+  for (int64_t v : common) {
+    EXPECT_NEAR(mesh.points[v][0], 10, 1e-9);
+    EXPECT_NEAR(mesh.points[v][2], 10, 1e-9);
+    EXPECT_TRUE(b.count(v)) << v;
+  }
+  // ...while the rest of their common face is split.
+  EXPECT_GT(r.report["interface_split"]["corner_copies"].get<int64_t>(), 10);
+  const json& kept = r.report["interface_split"]["kept_joined"];
+  ASSERT_EQ(kept.size(), 1u) << kept.dump();
+  EXPECT_EQ(kept[0]["parts"], json::array({"A", "C"}));
+  EXPECT_EQ(kept[0]["through"], json::array({"B"}));
+  EXPECT_EQ(kept[0]["nodes"].get<size_t>(), common.size());
+  std::vector<std::string> warnings;
+  for (const json& w : r.report["warnings"])
+    if (w.get<std::string>().find("stay joined") != std::string::npos) warnings.push_back(w.get<std::string>());
+  ASSERT_EQ(warnings.size(), 1u) << r.report["warnings"].dump();
+  EXPECT_EQ(warnings[0], "interfaces: the parts 'A' and 'C' (\"tied\") stay joined at " + std::to_string(common.size()) +
+                             " nodes, where both meet 'B', bonded to both: a node shared with a part bonded to both "
+                             "cannot be split between them; make 'A'-'B' or 'B'-'C' not bonded to part them there too");
+
+  // With B-C not bonded either, nothing keeps A and C joined.
+  job["interfaces"]["pairs"].push_back({{"between", {"B", "C"}}, {"kind", "separate"}});
+  const JobResult apart = run(job);
+  EXPECT_TRUE(apart.report["interface_split"]["kept_joined"].empty());
+  const std::set<int64_t> a2 = nodesOfMaterial(apart.mesh, 1), c2 = nodesOfMaterial(apart.mesh, 3);
+  common.clear();
+  std::set_intersection(a2.begin(), a2.end(), c2.begin(), c2.end(), std::back_inserter(common));
+  EXPECT_TRUE(common.empty()) << common.size();
+}
+
 std::string parseError(const json& job) {
   return test::inputErrorOf([&] { JobSpec::fromJson(job, ""); });
 }

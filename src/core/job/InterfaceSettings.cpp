@@ -61,4 +61,24 @@ std::vector<std::string> interfaceWarnings(const InterfacePlan& plan, const std:
   return warnings;
 }
 
+std::vector<std::string> keptJoinedWarnings(const InterfacePlan& plan, const InterfaceSplitStats& split,
+                                            const MaterialNames& names) {
+  std::vector<std::string> warnings;
+  for (const auto& [pair, kept] : split.kept_joined) {
+    const std::string a = "'" + materialName(names, pair.first) + "'", c = "'" + materialName(names, pair.second) + "'";
+    std::string through, fix;
+    for (int b : kept.through) {
+      const std::string name = "'" + materialName(names, b) + "'";
+      through += (through.empty() ? "" : ", ") + name;
+      fix += (fix.empty() ? "" : ", ") + a + "-" + name + " or " + name + "-" + c;
+    }
+    warnings.push_back("interfaces: the parts " + a + " and " + c + " (\"" +
+                       interfaceKindName(plan.between(pair.first, pair.second).kind) + "\") stay joined at " +
+                       std::to_string(kept.nodes) + " nodes, where both meet " + through +
+                       ", bonded to both: a node shared with a part bonded to both cannot be split between "
+                       "them; make " + fix + " not bonded to part them there too");
+  }
+  return warnings;
+}
+
 }  // namespace oraclemesh

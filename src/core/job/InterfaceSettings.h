@@ -6,6 +6,7 @@
 
 #include "job/JobSpec.h"
 #include "mesh/InterfaceKinds.h"
+#include "mesh/InterfaceSplit.h"
 #include "mesh/Surfaces.h"
 
 namespace oraclemesh {
@@ -18,5 +19,10 @@ InterfacePlan resolveInterfaces(const InterfacesSpec& spec, const MaterialNames&
 // there, or only where they meet along an edge or at a point).
 std::vector<std::string> interfaceWarnings(const InterfacePlan& plan, const std::vector<MeshSurface>& surfaces,
                                            const MaterialNames& names);
+
+// Warnings for pairs that are not bonded but stay joined at nodes they share with a part
+// bonded to both (InterfaceSplitStats::kept_joined), naming the pair, the count and the parts.
+std::vector<std::string> keptJoinedWarnings(const InterfacePlan& plan, const InterfaceSplitStats& split,
+                                            const MaterialNames& names);
 
 }  // namespace oraclemesh

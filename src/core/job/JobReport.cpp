@@ -314,8 +314,17 @@ json reportJson(const JobReport& r) {
   const MaterialNames names = partNames(r.inputs);
   report["interfaces"] = surfacesJson(r, names, true);
   report["exteriors"] = surfacesJson(r, names, false);
+  json keptJoined = json::array();
+  for (const auto& [pair, kept] : r.interface_split.kept_joined) {
+    json through = json::array();
+    for (int b : kept.through) through.push_back(materialName(names, b));
+    keptJoined.push_back({{"parts", {materialName(names, pair.first), materialName(names, pair.second)}},
+                          {"nodes", kept.nodes},
+                          {"through", through}});
+  }
   report["interface_split"] = {{"corner_copies", r.interface_split.corner_copies},
-                               {"mid_copies", r.interface_split.mid_copies}};
+                               {"mid_copies", r.interface_split.mid_copies},
+                               {"kept_joined", keptJoined}};
   report["warnings"] = r.warnings;
   report["seconds"] = r.seconds;
   return report;

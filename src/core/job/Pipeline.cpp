@@ -96,6 +96,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   for (std::string& warning : interfaceWarnings(report.interfaces, surfaces, names))
     report.warnings.push_back(std::move(warning));
   report.interface_split = splitInterfaces(mesh, report.interfaces);
+  for (std::string& warning : keptJoinedWarnings(report.interfaces, report.interface_split, names))
+    report.warnings.push_back(std::move(warning));
   report.interface_constraints = interfaceConstraints(mesh, surfaces, names, report.interfaces);
 
   // The final checks. A feature edge that is no tet edge is an error, never a mesh returned.

@@ -63,6 +63,14 @@ InterfaceSplitStats splitInterfaces(TetMesh& mesh, const InterfacePlan& plan) {
           const size_t a = root(i), b = root(j);
           parent[std::max(a, b)] = std::min(a, b);  // the smaller index is the root: class order = material order
         }
+    for (size_t i = 0; i < materials.size(); ++i)
+      for (size_t j = i + 1; j < materials.size(); ++j) {
+        if (root(i) != root(j) || plan.bonded(materials[i], materials[j])) continue;
+        KeptJoined& kept = stats.kept_joined[{materials[i], materials[j]}];
+        ++kept.nodes;
+        for (size_t k = 0; k < materials.size(); ++k)
+          if (k != i && k != j && root(k) == root(i)) kept.through.insert(materials[k]);
+      }
     // Class roots in material order; root 0 (the smallest material's class) keeps v.
     std::map<size_t, int64_t> nodeOfClass;
     for (size_t i = 0; i < materials.size(); ++i) {
