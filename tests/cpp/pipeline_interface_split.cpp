@@ -13,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "input_errors.h"
@@ -287,6 +288,39 @@ TEST(InterfaceSplit, PartsJoinedThroughAThirdBondedToBothAreReported) {
   EXPECT_EQ(warnings[0], "interfaces: the parts 'A' and 'C' (\"tied\") stay joined at " + std::to_string(common.size()) +
                              " nodes, where both meet 'B', bonded to both: a node shared with a part bonded to both "
                              "cannot be split between them; make 'A'-'B' or 'B'-'C' not bonded to part them there too");
+
+  // The tie leaves the shared nodes out (CalculiX rejects a node tied to itself): its slave
+  // side is a node surface over the slave faces' other nodes.
+  const json& tie = r.report["interfaces"][1];
+  ASSERT_EQ(tie["parts"], json::array({"A", "C"})) << r.report["interfaces"].dump();
+  ASSERT_EQ(tie["slave_node_surface"], "Tie_A_C_Slave");
+  std::set<int64_t> slaveFaceNodes;
+  for (const ElementFace& f : surfaceNamed(r, tie["slave"].get<std::string>()).faces)
+    for (int64_t v : faceNodes(mesh, f)) slaveFaceNodes.insert(v);
+  EXPECT_EQ(tie["slave_nodes"].get<size_t>() + common.size(), slaveFaceNodes.size());
+  const std::string inp = (std::filesystem::temp_directory_path() / "oraclemesh_split_three.inp").string();
+  json written = job;
+  written["output"] = {{"files", {inp}}};
+  run(written);
+  const std::string text = fileText(inp);
+  const std::string nsetCard = "*NSET, NSET=Tie_A_C_Slave\n";
+  const size_t nset = text.find(nsetCard);
+  ASSERT_NE(nset, std::string::npos);
+  const size_t surface = text.find("*SURFACE, NAME=Tie_A_C_Slave, TYPE=NODE\nTie_A_C_Slave\n", nset);
+  ASSERT_NE(surface, std::string::npos);
+  std::set<int64_t> listed;
+  const size_t idsStart = nset + nsetCard.size();
+  std::string idText = text.substr(idsStart, surface - idsStart);
+  std::replace(idText.begin(), idText.end(), '\n', ',');  // 8 ids a line
+  std::istringstream ids(idText);
+  for (std::string id; std::getline(ids, id, ',');)
+    if (!id.empty()) listed.insert(std::stoll(id) - 1);
+  std::set<int64_t> expected;
+  std::set_difference(slaveFaceNodes.begin(), slaveFaceNodes.end(), common.begin(), common.end(),
+                      std::inserter(expected, expected.end()));
+  EXPECT_EQ(listed, expected);
+  EXPECT_NE(text.find("ADJUST=NO\nTie_A_C_Slave, " + tie["master"].get<std::string>() + "\n"), std::string::npos);
+  std::filesystem::remove(inp);
 
   // With B-C not bonded either, nothing keeps A and C joined.
   job["interfaces"]["pairs"].push_back({{"between", {"B", "C"}}, {"kind", "separate"}});

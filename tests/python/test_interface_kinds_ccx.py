@@ -156,3 +156,48 @@ def test_a_softer_contact_slope_lets_the_top_plate_sink_into_the_bottom(folder, 
     assert top < 8 * EULER_BERNOULLI
     # The overlap at the tip, nil with the default slope, is now a good part of a millimetre.
     assert top - bottom > 0.1
+
+
+def three_boxes_top_shift(folder, kind):
+    """Boxes A (0..10)^3, B beside it (x 10..20), C on A (z 10..20), B and C meeting along one
+    edge; A-C `kind`, the rest bonded; clamped at z = 0, 100 N along x spread over C's top
+    nodes. Returns the mean x displacement of those nodes."""
+    from test_part_surfaces import box_surface
+    os.makedirs(folder, exist_ok=True)
+    job = {"inputs": [{"name": "A", "surface": box_surface((0, 0, 0), (10, 10, 10)), "material": 1},
+                      {"name": "B", "surface": box_surface((10, 0, 0), (20, 10, 10)), "material": 2},
+                      {"name": "C", "surface": box_surface((0, 0, 10), (10, 10, 20)), "material": 3}],
+           "criteria": {"default": {"cell_size": 3, "facet_size": 3}}, "element_order": 2, "seed": 0,
+           "interfaces": {"pairs": [{"between": ["A", "C"], "kind": kind}]},
+           "output": {"files": [os.path.join(folder, "mesh.inp")]}}
+    result = oraclemesh.run(job)
+    points = np.asarray(result.points)
+    fixed = [i + 1 for i, p in enumerate(points) if abs(p[2]) < 1e-9]
+    top = [i + 1 for i, p in enumerate(points) if abs(p[2] - 20) < 1e-9]
+    lines = ["*INCLUDE, INPUT=mesh.inp", "*NSET, NSET=Nfix"] + node_lines(fixed)
+    lines += ["*NSET, NSET=Ntop"] + node_lines(top)
+    lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
+              "*STEP", "*STATIC", "*BOUNDARY", "Nfix, 1, 3", "*CLOAD"]
+    lines += ["%d, 1, %.12g" % (n, 100.0 / len(top)) for n in top]
+    lines += ["*NODE PRINT, NSET=Ntop", "U", "*END STEP"]
+    with open(os.path.join(folder, "job.inp"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    run = subprocess.run(["ccx", "job"], cwd=folder, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
+    with open(os.path.join(folder, "job.dat")) as f:
+        rows = [line.split() for line in f.read().split("displacements")[-1].splitlines()]
+    return result, np.mean([float(v[1]) for v in rows if len(v) == 4 and v[0].isdigit()])
+
+
+def test_a_tie_beside_a_part_bonded_to_both_parts_solves(folder):
+    """A and C tied, both bonded to B along one edge: the nodes there stay shared (the report
+    warns), and the tie leaves them out, which ccx 2.20 needs (a node tied to itself stops it:
+    "zero coefficient on the dependent term"). The tie joins A and C as bonding does; without
+    it C would hang on B's edge alone."""
+    tied_result, tied = three_boxes_top_shift(os.path.join(folder, "three_tied"), "tied")
+    assert tied_result.report["interface_split"]["kept_joined"][0]["parts"] == ["A", "C"]
+    _, bonded = three_boxes_top_shift(os.path.join(folder, "three_bonded"), "bonded")
+    _, separate = three_boxes_top_shift(os.path.join(folder, "three_separate"), "separate")
+    print("top of C along x: tied %.6g, bonded %.6g, separate %.6g mm" % (tied, bonded, separate))
+    assert tied == pytest.approx(bonded, rel=1e-3)
+    assert separate > 10 * bonded

@@ -220,6 +220,10 @@ json surfacesJson(const JobReport& r, const MaterialNames& names, bool interface
           entry["master"] = c.master;
           entry["slave"] = c.slave;
           if (behaviour.kind == InterfaceKind::Tied) entry["position_tolerance"] = c.position_tolerance;
+          if (!c.slave_nodes_name.empty()) {  // some slave nodes are shared with the master part
+            entry["slave_node_surface"] = c.slave_nodes_name;
+            entry["slave_nodes"] = c.slave_nodes.size();
+          }
           if (behaviour.kind == InterfaceKind::Contact) entry["contact_stiffness"] = c.contact_stiffness;
         }
     } else {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "mesh/Quality.h"
 
@@ -50,6 +51,38 @@ double shortestFaceEdge(const TetMesh& mesh, const MeshSurface& surface) {
   return shortest;
 }
 
+// Nodes of the surface's faces: corners and, for tet10, the mid nodes of the faces' edges.
+std::set<int64_t> surfaceNodes(const TetMesh& mesh, const MeshSurface& surface) {
+  std::set<int64_t> nodes;
+  for (const ElementFace& f : surface.faces) {
+    const auto& corners = kCalculixTetFaces[f.face];
+    for (int k = 0; k < 3; ++k) nodes.insert(mesh.tets[f.tet][corners[k]]);
+    if (mesh.order() != 2) continue;
+    auto onFace = [&](int corner) { return std::find(corners.begin(), corners.end(), corner) != corners.end(); };
+    for (int e = 0; e < 6; ++e)
+      if (onFace(kTetEdgeCorners[e][0]) && onFace(kTetEdgeCorners[e][1])) nodes.insert(mesh.tet_mid_nodes[f.tet][e]);
+  }
+  return nodes;
+}
+
+// The slave face nodes the master part's tets also use (see InterfaceConstraint::slave_nodes).
+void dropNodesOfTheMaster(const TetMesh& mesh, const MeshSurface& slave, InterfaceConstraint& c) {
+  const std::set<int64_t> faceNodes = surfaceNodes(mesh, slave);
+  std::set<int64_t> shared;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.tet_materials[t] != c.master_material) continue;
+    for (int64_t v : mesh.tets[t])
+      if (faceNodes.count(v)) shared.insert(v);
+    if (mesh.order() == 2)
+      for (int64_t v : mesh.tet_mid_nodes[t])
+        if (faceNodes.count(v)) shared.insert(v);
+  }
+  if (shared.empty()) return;
+  for (int64_t v : faceNodes)
+    if (!shared.count(v)) c.slave_nodes.push_back(v);
+  c.slave_nodes_name = inpName(c.name + "_Slave");
+}
+
 }  // namespace
 
 std::vector<InterfaceConstraint> interfaceConstraints(const TetMesh& mesh, const std::vector<MeshSurface>& surfaces,
@@ -87,6 +120,7 @@ std::vector<InterfaceConstraint> interfaceConstraints(const TetMesh& mesh, const
     c.name = inpName(std::string(behaviour.kind == InterfaceKind::Tied ? "Tie_" : "Contact_") +
                      materialName(names, a) + "_" + materialName(names, b));
     c.position_tolerance = 0.01 * shortestFaceEdge(mesh, *front);
+    if (behaviour.kind == InterfaceKind::Tied) dropNodesOfTheMaster(mesh, *slave, c);
     c.contact_stiffness_given = behaviour.contact_stiffness > 0;
     c.contact_stiffness = c.contact_stiffness_given ? behaviour.contact_stiffness
                                                     : 2.5 * kSteelYoungsModulus / meanFaceEdge(mesh, *front);
@@ -100,11 +134,23 @@ std::string calculixInterfaceCards(const std::vector<InterfaceConstraint>& const
   char line[1024];  // three names of up to 80 characters and the comments
   for (const InterfaceConstraint& c : constraints) {
     if (c.behaviour.kind == InterfaceKind::Tied) {
+      std::string slave = c.slave;
+      if (!c.slave_nodes_name.empty()) {
+        slave = c.slave_nodes_name;
+        std::snprintf(line, sizeof line,
+                      "** %s: the slave face nodes but those the master part shares (joined through a part "
+                      "bonded to both)\n*NSET, NSET=%s\n",
+                      c.name.c_str(), slave.c_str());
+        cards += line;
+        for (size_t i = 0; i < c.slave_nodes.size(); ++i)
+          cards += std::to_string(c.slave_nodes[i] + 1) + (i + 1 == c.slave_nodes.size() || i % 8 == 7 ? "\n" : ", ");
+        cards += "*SURFACE, NAME=" + slave + ", TYPE=NODE\n" + slave + "\n";
+      }
       // ADJUST=NO: the slave nodes already sit on the master faces (they are copies of its nodes).
       std::snprintf(line, sizeof line,
                     "** %s: the two parts tied (own nodes, CalculiX couples them by equations)\n"
                     "*TIE, NAME=%s, POSITION TOLERANCE=%.6g, ADJUST=NO\n%s, %s\n",
-                    c.name.c_str(), c.name.c_str(), c.position_tolerance, c.slave.c_str(), c.master.c_str());
+                    c.name.c_str(), c.name.c_str(), c.position_tolerance, slave.c_str(), c.master.c_str());
       cards += line;
       continue;
     }

@@ -2,6 +2,7 @@
 // The CalculiX definitions that join the two sides of a split interface (issue 19): a *TIE for
 // tied pairs, a surface-to-surface *CONTACT PAIR for contact pairs, with the choice of master
 // and slave side and the numbers CalculiX needs, made once here for the INP and the report.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,14 @@ struct InterfaceConstraint {
   // so only rounding separates them; an element-size tolerance could also catch nodes of
   // faces across a thin gap or at a sharp fold of the interface.
   double position_tolerance = 0;
+  // Tied: slave face nodes that the master part's tets use too (kept joined through a part
+  // bonded to both, InterfaceSplitStats::kept_joined) are not tied: CalculiX 2.20 stops on a
+  // node tied to itself ("*ERROR in cascade: zero coefficient on the dependent term"). When
+  // there are any, the tie's slave side is the node surface slave_nodes_name (an NSET of the
+  // same name) over the other slave face nodes, slave_nodes (0-based, sorted); else both are
+  // empty and the slave faces serve.
+  std::vector<int64_t> slave_nodes;
+  std::string slave_nodes_name;
   // Contact: the slope of CalculiX' linear pressure-overclosure law. The job's
   // (interfaces.pairs[i].contact_stiffness, else interfaces.contact_stiffness) if it gives one,
   // else 2.5 E / h with E = 210000 (steel in N and mm) and h the mean edge length of the
