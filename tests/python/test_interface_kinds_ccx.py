@@ -48,6 +48,25 @@ def pressure_lines(name, faces, pressure):
             + ["*DLOAD", "%s, P, %.12g" % (name, pressure)])
 
 
+def run_ccx(folder, fixed, watched, loads):
+    """Runs ccx on folder/mesh.inp (steel, nodes `fixed` clamped, the load cards `loads` in one
+    static step of up to 100 increments, as contact needs); returns the displacements of the
+    nodes `watched` (1-based ids) in the last converged increment, {node: (ux, uy, uz)}."""
+    lines = ["*INCLUDE, INPUT=mesh.inp", "*NSET, NSET=Nfix"] + node_lines(fixed)
+    lines += ["*NSET, NSET=Nwatch"] + node_lines(watched)
+    lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
+              "*STEP, INC=100", "*STATIC", "1., 1.", "*BOUNDARY", "Nfix, 1, 3"]
+    lines += loads + ["*NODE PRINT, NSET=Nwatch", "U", "*END STEP"]
+    with open(os.path.join(folder, "job.inp"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    run = subprocess.run(["ccx", "job"], cwd=folder, capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
+    with open(os.path.join(folder, "job.dat")) as f:
+        last = f.read().split("displacements")[-1]  # the last converged increment
+    rows = (line.split() for line in last.splitlines())
+    return {int(v[0]): tuple(map(float, v[1:])) for v in rows if len(v) == 4 and v[0].isdigit()}
+
+
 def solve(folder, pair, load, squeeze=0.0, interfaces=None):
     """Meshes the plates with `pair` (the interfaces.pairs entry without "between", e.g.
     {"kind": "contact", "friction": 0.3}) between them, runs ccx; returns (result, uz of the
@@ -66,10 +85,7 @@ def solve(folder, pair, load, squeeze=0.0, interfaces=None):
     top_nodes = set(np.unique(tets[np.asarray(result.tet_materials) == 1]).tolist())
     fixed = [i + 1 for i, p in enumerate(points) if abs(p[0]) < 1e-9]
     tip = [i + 1 for i, p in enumerate(points) if abs(p[0] - 200) < 1e-9]
-    lines = ["*INCLUDE, INPUT=mesh.inp", "*NSET, NSET=Nfix"] + node_lines(fixed)
-    lines += ["*NSET, NSET=Ntip"] + node_lines(tip)
-    lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
-              "*STEP, INC=100", "*STATIC", "1., 1.", "*BOUNDARY", "Nfix, 1, 3"]
+    lines = []
     if load == "down":
         top, area = outer_face(result, "top", 10)
         assert area == pytest.approx(4000, rel=1e-9)
@@ -81,20 +97,9 @@ def solve(folder, pair, load, squeeze=0.0, interfaces=None):
     else:  # 100 N up, shared by the top plate's nodes on its tip face
         pull = [n for n in tip if n - 1 in top_nodes]
         lines += ["*CLOAD"] + ["%d, 3, %.12g" % (n, 100.0 / len(pull)) for n in pull]
-    lines += ["*NODE PRINT, NSET=Ntip", "U", "*END STEP"]
-    with open(os.path.join(folder, "job.inp"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    run = subprocess.run(["ccx", "job"], cwd=folder, capture_output=True, text=True, timeout=900)
-    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
-    with open(os.path.join(folder, "job.dat")) as f:
-        last = f.read().split("displacements")[-1]  # the last converged increment
-    u = {}
-    for line in last.splitlines():
-        v = line.split()
-        if len(v) == 4 and v[0].isdigit():
-            u[int(v[0])] = float(v[3])
+    u = run_ccx(folder, fixed, tip, lines)
     on_top = np.array([n - 1 in top_nodes for n in tip])
-    return result, np.array([u[n] for n in tip]), on_top
+    return result, np.array([u[n][2] for n in tip]), on_top
 
 
 @pytest.fixture(scope="module")
@@ -174,19 +179,8 @@ def three_boxes_top_shift(folder, kind):
     points = np.asarray(result.points)
     fixed = [i + 1 for i, p in enumerate(points) if abs(p[2]) < 1e-9]
     top = [i + 1 for i, p in enumerate(points) if abs(p[2] - 20) < 1e-9]
-    lines = ["*INCLUDE, INPUT=mesh.inp", "*NSET, NSET=Nfix"] + node_lines(fixed)
-    lines += ["*NSET, NSET=Ntop"] + node_lines(top)
-    lines += ["*MATERIAL, NAME=Steel", "*ELASTIC", "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel",
-              "*STEP", "*STATIC", "*BOUNDARY", "Nfix, 1, 3", "*CLOAD"]
-    lines += ["%d, 1, %.12g" % (n, 100.0 / len(top)) for n in top]
-    lines += ["*NODE PRINT, NSET=Ntop", "U", "*END STEP"]
-    with open(os.path.join(folder, "job.inp"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    run = subprocess.run(["ccx", "job"], cwd=folder, capture_output=True, text=True, timeout=600)
-    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
-    with open(os.path.join(folder, "job.dat")) as f:
-        rows = [line.split() for line in f.read().split("displacements")[-1].splitlines()]
-    return result, np.mean([float(v[1]) for v in rows if len(v) == 4 and v[0].isdigit()])
+    u = run_ccx(folder, fixed, top, ["*CLOAD"] + ["%d, 1, %.12g" % (n, 100.0 / len(top)) for n in top])
+    return result, np.mean([u[n][0] for n in top])
 
 
 def test_a_tie_beside_a_part_bonded_to_both_parts_solves(folder):
