@@ -3,12 +3,14 @@ the core's report), export files read back by meshio, old documents gaining this
 properties, group names from InputMaterialNames, size presets."""
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from installed import require_module  # noqa: E402
+from installed import require_module, require_programs  # noqa: E402
 from tet_geometry import tet10_volumes  # noqa: E402
 
 
@@ -50,6 +52,7 @@ def test_workbench_parts(run_freecad):
     vtu = meshio.read(r["exports"][".vtu"])
     assert sorted(np.unique(vtu.cell_data["material"][0]).tolist()) == [1, 2]
     check_exported_face_groups(r["face_group_areas"], vtu, r["exports"][".inp"], meshio)
+    check_exported_inp_in_calculix(r["exports"][".inp"], meshio)
     assert "xyz" in r["bad_extension"] and ".vtu" in r["bad_extension"]
 
     assert len(r["restored_properties"]) == 5 and all(r["restored_properties"].values()), \
@@ -112,3 +115,40 @@ def check_exported_face_groups(areas, vtu, inp_path, meshio):
         corners = tets[sides[:, 0] - 1][np.arange(len(sides))[:, None],
                                         np.array(CALCULIX_FACES)[sides[:, 1]]]
         assert abs(triangle_areas(inp.points, corners).sum() - area) < 1e-9 * area, name
+
+
+def check_exported_inp_in_calculix(inp_path, meshio):
+    """CalculiX reads the exported INP and its *SURFACEs name the right faces: a pressure of
+    1 N/mm^2 on the faces of Exterior_Rod in the plane z = 15 (the rod's flat top cap) with the
+    block's bottom (z = 0) clamped; the clamp's reaction is the pressure times the cap's area,
+    along z: the 3 mm disk's 9 pi, as the tri6 faces' mid nodes on its rim bend their edges
+    round it (their corner triangles miss the segments). Faces named by a wrong S1..S4 would
+    be other faces of those tets, not flat in that plane."""
+    require_programs({"ccx": "calculix-ccx"})
+    inp = meshio.read(inp_path)
+    points, tets = inp.points, inp.cells[0].data
+    faces = np.array(inp_surfaces(inp_path)["Exterior_Rod"])
+    corners = tets[faces[:, 0] - 1][np.arange(len(faces))[:, None], np.array(CALCULIX_FACES)[faces[:, 1]]]
+    cap = points[corners][:, :, 2].min(axis=1) > 15 - 1e-9
+    cap_area = triangle_areas(points, corners[cap]).sum()
+    assert 0.95 * 9 * math.pi < cap_area < 9 * math.pi  # the corner triangles: a polygon
+    fixed = [i + 1 for i, p in enumerate(points) if abs(p[2]) < 1e-9]
+    folder = os.path.dirname(inp_path)
+    lines = ["*INCLUDE, INPUT=%s" % os.path.basename(inp_path), "*NSET, NSET=Nfix"]
+    lines += [", ".join(map(str, fixed[k:k + 8])) for k in range(0, len(fixed), 8)]
+    lines += ["*SURFACE, NAME=Pressed, TYPE=ELEMENT"] + ["%d, S%d" % (e, f + 1) for e, f in faces[cap]]
+    lines += ["*ELSET, ELSET=Eall", "Steel_Volumes, Block_Volumes", "*MATERIAL, NAME=Steel", "*ELASTIC",
+              "210000, 0.3", "*SOLID SECTION, ELSET=Eall, MATERIAL=Steel", "*STEP", "*STATIC",
+              "*BOUNDARY", "Nfix, 1, 3", "*DLOAD", "Pressed, P, 1.0",
+              "*NODE PRINT, NSET=Nfix, TOTALS=ONLY", "RF", "*END STEP"]
+    with open(os.path.join(folder, "pressed.inp"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    run = subprocess.run(["ccx", "pressed"], cwd=folder, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0 and "*ERROR" not in run.stdout, run.stdout[-2000:]
+    with open(os.path.join(folder, "pressed.dat")) as f:
+        # " total force (fx,fy,fz) for set NFIX and time  0.1000000E+01", then fx fy fz.
+        reaction = [float(v) for v in f.read().split("total force")[-1].split()[-3:]]
+    print("reaction %s N; pressure x disk area %.5f N" % (reaction, 9 * math.pi))
+    # The pressure pushes the cap down (-z) with p A; ccx prints the clamp's reaction as +p A.
+    assert reaction[2] == pytest.approx(9 * math.pi, rel=1e-4)
+    assert abs(reaction[0]) < 1e-6 * reaction[2] and abs(reaction[1]) < 1e-6 * reaction[2]

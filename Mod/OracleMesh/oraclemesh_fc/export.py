@@ -137,13 +137,25 @@ def export_mesh(obj, path):
                  for k, name in enumerate(names)}
     mesh = meshio.Mesh(points, cells, cell_data=cell_data,
                        cell_sets=cell_sets if ext == ".inp" else {})
-    meshio.write(path, mesh, file_format=FORMATS[ext][0])
-    if ext == ".inp" and surfaces:
-        with open(path, "a") as f:
-            f.write(_inp_surfaces(surfaces))
+    # CalculiX reads each *NODE coordinate from a 20-character field (f20.0): meshio's default
+    # %.16e makes 22 or 23 characters; .12e makes at most 19.
+    options = {"float_fmt": ".12e"} if ext == ".inp" else {}
+    meshio.write(path, mesh, file_format=FORMATS[ext][0], **options)
+    if ext == ".inp":
+        _finish_inp(path, surfaces)
     if ext == ".vtu" and surfaces:
         _add_vtu_field_data(path, [name for name, _, _ in surfaces])
     return path
+
+
+def _finish_inp(path, surfaces):
+    """Makes meshio's INP one CalculiX reads: meshio names tetra10 C3D10MH (the last of the
+    Abaqus types it maps to tetra10), which CalculiX does not know; and adds the surfaces."""
+    with open(path) as f:
+        text = f.read()
+    text = text.replace("*ELEMENT, TYPE=C3D10MH\n", "*ELEMENT, TYPE=C3D10\n")
+    with open(path, "w") as f:
+        f.write(text + _inp_surfaces(surfaces))
 
 
 def _add_vtu_field_data(path, names):
