@@ -5,10 +5,16 @@ classifier or intersector, where the core cannot check its time limit) ends at
 limits.time_limit plus the grace with an oraclemesh.Error naming the B-rep input, and the
 interpreter goes on meshing. The same job gives the same INP bytes either way.
 
-The hang and the crash are the worker's test hooks (ORACLEMESH_WORKER_HANG / _CRASH = phase):
-they block or kill the child where the core reports that phase, as a call looping or crashing
-inside OpenCASCADE would (the real inputs that did, tests/data/bad/cad, are caught by the
-B-rep helper before meshing starts and tested in test_bad_cad_inputs.py).
+A real input: tests/data/part_long_initial_points.step, the shared models' part.step with
+three bytes changed (a point moved by 3e-5, one reference and one separator broken), read
+cleanly by the helper; then phase 'initial points' spends 6.7 s in OpenCASCADE's exact
+classifier (BRepClass3d_SClassifier, Extrema_ExtCC) without reaching a checkpoint of the core
+(2 cores, loaded machine). With limits.time_limit = 1, run(isolated=False) came back after
+9.9 s ("meshing exceeded"); run() ends it at 1 + 2 s.
+Crashes and endless hangs are the worker's test hooks (ORACLEMESH_WORKER_HANG / _CRASH =
+phase): they block or kill the child where the core reports that phase, as a call looping or
+crashing inside OpenCASCADE would (the real inputs that did, tests/data/bad/cad, are caught
+by the B-rep helper before meshing starts and tested in test_bad_cad_inputs.py).
 """
 import os
 import signal
@@ -23,6 +29,7 @@ from worker_processes import live_worker_children  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLATE = os.path.join(HERE, "..", "data", "plate_200x20x5.brep")
+LONG_INITIAL_POINTS = os.path.abspath(os.path.join(HERE, "..", "data", "part_long_initial_points.step"))
 TIME_LIMIT = 2
 GRACE = 2       # oraclemesh's rule for limits up to 20 s, as the CLI's
 SLACK = 10      # process start and a loaded machine
@@ -95,6 +102,23 @@ def test_hang_after_reading_ends_at_the_time_limit_naming_the_file(phase, monkey
     assert "input 'plate' (file '%s')" % os.path.abspath(PLATE) in message, message
     assert "Part > Check geometry" in message
     monkeypatch.delenv("ORACLEMESH_WORKER_HANG")
+    assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
+
+
+def test_long_opencascade_call_after_reading_a_real_file_ends_at_the_time_limit():
+    job = {"inputs": [{"name": "part", "file": LONG_INITIAL_POINTS, "material": 1}], "element_order": 1,
+           "criteria": {"default": {"cell_size": 4, "facet_size": 4, "facet_distance": 0.5}},
+           "limits": {"time_limit": 1}}
+    start = time.monotonic()
+    with pytest.raises(oraclemesh.LimitError) as err:
+        oraclemesh.run(job)
+    seconds = time.monotonic() - start
+    assert 1 + GRACE <= seconds < 1 + GRACE + SLACK, seconds
+    message = str(err.value)
+    # The hard deadline's message, not the core's own "meshing exceeded" at its next checkpoint.
+    assert "did not end within limits.time_limit = 1 s (and 2 s of grace)" in message, message
+    assert "stuck in phase 'initial points'" in message, message
+    assert "input 'part' (file '%s')" % LONG_INITIAL_POINTS in message, message
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
 
