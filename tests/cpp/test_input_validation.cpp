@@ -9,17 +9,22 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "domain/HierarchicalOracle.h"
 #include "domain/LabeledImage.h"
 #include "domain/NrrdReader.h"
 #include "domain/Sphere.h"
 #include "domain/TriangleSurface.h"
+#include "domain/brep/ShapeFiles.h"
 #include "features/UserPolylines.h"
 #include "input_errors.h"
 #include "occt_checks.h"
@@ -161,6 +166,49 @@ TEST(InputValidation, PolylineWithAnotherEdgesBrepIsRefused) {
   const auto own = UserCurve::fromBrep(
       test::brepText(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(0, 0.5, 0)).Edge()), "features.polylines[0].brep");
   EXPECT_FALSE(userPolylineFeatures({{{0, 0, 0}, {0, 0.5, 0}}}, ball(), 0.1, {own}).polylines.empty());
+}
+
+// An IGES file of a start and a global section (`global`, 72 columns a line) and parameter
+// lines, each {parameters (64 columns), the entity's directory entry}; no directory section:
+// what is tested is refused, or passed on, before OpenCASCADE reads the file.
+std::string igesFile(const std::string& global, const std::vector<std::pair<std::string, int>>& parameterLines) {
+  auto line = [](std::string data, char section, int sequence) {
+    data.resize(72, ' ');
+    char number[8];
+    std::snprintf(number, sizeof number, "%7d", sequence);
+    return data + section + number + "\n";
+  };
+  std::string text = line("", 'S', 1) + line(global, 'G', 1);
+  int sequence = 0;
+  for (const auto& [parameters, entity] : parameterLines) {
+    std::string data = parameters;
+    data.resize(64, ' ');
+    char pointer[9];
+    std::snprintf(pointer, sizeof pointer, "%8d", entity);
+    text += line(data + pointer, 'P', ++sequence);
+  }
+  return text + line("S0000001G0000001D0000000P" + std::to_string(sequence), 'T', 1);
+}
+
+std::string igesMessage(const std::string& name, const std::string& text) {
+  return inputErrorOf([&] { readShapeFile(scratch(name, text), "input 'part'"); });
+}
+
+TEST(InputValidation, IgesNumbersThatAreNotFiniteAreRefusedBeforeReading) {
+  // On 1.D999 for a line's start OpenCASCADE's IGES transfer looped until the time limit.
+  const std::string line = "110,0.,0.,0.,1.5D3,1.,1.;";
+  std::string message = igesMessage("inf.iges", igesFile("1H,,1H;;", {{line, 1}, {"110,1.D999,0.,0.,1.,1.,1.;", 3}}));
+  EXPECT_TRUE(contains(message, "input 'part' has a number that is not finite (1.D999) in the parameters of IGES "
+                                "entity DE 3: the file is damaged"))
+      << message;
+  // The delimiters the global section declares ("1H/" and "1H!" here), and NaN.
+  message = igesMessage("nan.iges", igesFile("1H//1H!!", {{"110/0./NaN/0./1./1./1.!", 1}}));
+  EXPECT_TRUE(contains(message, "not finite (NaN) in the parameters of IGES entity DE 1")) << message;
+  // Strings are not numbers, also one continued on the next line; finite numbers in D form pass.
+  const std::string longString = "406,1,70H" + std::string(55, 'a');
+  message = igesMessage("strings.iges", igesFile("", {{line, 1}, {"406,1,12H1.D999,NaN,x;", 3},
+                                                      {longString, 5}, {",1.D999,NaN,bbb;", 5}}));
+  EXPECT_FALSE(contains(message, "not finite")) << message;
 }
 
 }  // namespace

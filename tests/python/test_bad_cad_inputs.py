@@ -1,4 +1,4 @@
-"""Issue 18, containment: damaged STEP and BREP files (OpenCASCADE segfaults or loops on them),
+"""Issue 18, containment: damaged STEP, IGES and BREP files (OpenCASCADE segfaults or loops on them),
 non-finite geometry and models far from the origin end, through the CLI and oraclemesh.run, in
 an InputError naming the input within the job's time limit (exit code 2, never a signal), and
 the interpreter goes on meshing afterwards.
@@ -39,6 +39,10 @@ EXPECTED = {
     # NaN and 1.E999 in a CARTESIAN_POINT: the transfer's shape healing used to loop on them
     "nan_point.step": ["not a finite number", "nan_point.step", "entity #24"],
     "inf_point.step": ["not a finite number", "inf_point.step", "entity #24"],
+    # 1.D999 for a line's start x in an IGES box (FreeCAD's export): the transfer looped on it
+    "inf_line.iges": ["not finite (1.D999)", "inf_line.iges", "IGES entity DE 11"],
+    # the first half of that box's IGES file
+    "truncated_box.iges": ["holds no shape OpenCASCADE can transfer", "truncated_box.iges"],
     # a box at x = 1e20
     "far_box.brep": ["from the origin", "far_box.brep", "move the model near the origin"],
     # a sphere of radius 5 at x = 1e20, both engines: used to segfault in insertInitialPoints

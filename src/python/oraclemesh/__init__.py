@@ -10,11 +10,11 @@ Its "engine" is "thesis" (Rule Set T, the default) or "cgal" (CGAL Mesh_3).
 import json
 import math
 import os
-import signal
 import subprocess
 import sys
 import tempfile
 import threading
+import time
 
 import numpy as np
 
@@ -114,49 +114,122 @@ def _check_array(array, where):
                          % (where, "".join("[%d]" % i for i in index), array[index].item()))
 
 
-def run(job, progress=None, base_directory=None):
+# File inputs the core reads as triangle surfaces (job/InputLoading); any other file is a
+# STEP, IGES or BREP file for OpenCASCADE (or a type the core refuses with a message).
+_SURFACE_FILE_EXTENSIONS = (".stl", ".obj", ".off")
+
+
+def _read_job_file(path):
+    try:
+        with open(path) as f:
+            return f.read()
+    except OSError as e:
+        raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
+
+
+def _job_as_dict(job):
+    """The job as a dict, to look at its inputs; None when it is not one (the core then
+    explains what is wrong with it)."""
+    if isinstance(job, (str, os.PathLike)):
+        try:
+            job = json.loads(_read_job_file(os.fspath(job)))
+        except (ValueError, RecursionError):
+            return None
+    return job if isinstance(job, dict) else None
+
+
+def _opencascade_inputs(job):
+    """What in a job OpenCASCADE works on, as the core names it in messages ("input 'pin'
+    (file 'pin.step')", "features.polylines[0]"); empty for a job without B-rep geometry."""
+    if job is None:
+        return []
+    found = []
+    inputs = job.get("inputs")
+    for entry in inputs if isinstance(inputs, list) else []:
+        if not isinstance(entry, dict):
+            continue
+        name = entry.get("name") if isinstance(entry.get("name"), str) else "?"
+        file = entry.get("file")
+        if isinstance(file, str) and not file.lower().endswith(_SURFACE_FILE_EXTENSIONS):
+            found.append("input '%s' (file '%s')" % (name, file))
+        elif "brep" in entry:
+            found.append("input '%s' (BREP text)" % name)
+    features = job.get("features")
+    polylines = features.get("polylines") if isinstance(features, dict) else None
+    for i, line in enumerate(polylines if isinstance(polylines, list) else []):
+        if isinstance(line, dict) and "brep" in line:
+            found.append("features.polylines[%d] (BREP edge)" % i)
+    return found
+
+
+def _time_limit(job):
+    """limits.time_limit as the core reads it (default 3600 s); an invalid one is the
+    core's to report, the default bounds the wait meanwhile."""
+    limits = job.get("limits") if isinstance(job, dict) else None
+    limit = limits.get("time_limit") if isinstance(limits, dict) else None
+    valid = isinstance(limit, (int, float)) and not isinstance(limit, bool) and 0 < limit < math.inf
+    return float(limit) if valid else 3600.0
+
+
+def _grace(limit):
+    """As the CLI's hard deadline (src/cli/HardDeadline.h): a tenth of the limit, 2 to 30 s,
+    for the core's own checkpoint to stop the job first."""
+    return min(30.0, max(2.0, 0.1 * limit))
+
+
+def run(job, progress=None, base_directory=None, isolated=None):
     """Run a job (dict, or path to a JSON job file) and return a Result.
 
-    progress(phase: str, fraction: float) is called from the meshing thread with the GIL
-    held; returning False cancels (oraclemesh.Cancelled is raised); an exception it raises
-    stops the run and is raised again here, as itself. Relative paths in the
+    progress(phase: str, fraction: float) is called with the GIL held; returning False
+    cancels (oraclemesh.Cancelled is raised); an exception it raises stops the run and is
+    raised again here, as itself. Relative paths in the
     job are taken relative to base_directory (default: the job file's folder, or the
     current directory for a dict). An image input may give its labels as a numpy array:
     {"image": {"labels": labels[z][y][x], "spacing": [sx, sy, sz], "origin": [x, y, z]},
     "materials": {"1": 2}} (see oraclemesh.images for the axis order). Raises
     oraclemesh.Error subclasses with a message that names the input and the fix.
+
+    isolated: None (default) runs a job in which OpenCASCADE works on the user's geometry
+    (a STEP, IGES or BREP file, BREP text, a polyline with a "brep" edge) as run_isolated
+    does, in a child process, and any other job in this process; True or False forces
+    either way. OpenCASCADE can loop or crash on a damaged shape in calls the core cannot
+    interrupt; in a child, that ends at limits.time_limit plus a grace as an
+    oraclemesh.Error naming the B-rep inputs, and this interpreter goes on. The result is
+    the same (the same core in both); the child costs a process start and a copy of the
+    arrays.
     """
+    if isolated is None:
+        isolated = bool(_opencascade_inputs(_job_as_dict(job)))
+    if isolated:
+        return run_isolated(job, progress=progress, base_directory=base_directory)
     # Images given as arrays live in NRRD files until the core has read them.
     with tempfile.TemporaryDirectory(prefix="oraclemesh-images-") as images:
         if isinstance(job, (str, os.PathLike)):
             path = os.fspath(job)
-            try:
-                with open(path) as f:
-                    text = f.read()
-            except OSError as e:
-                raise InputError("cannot read the job file '%s': %s" % (path, e.strerror)) from None
+            text = _read_job_file(path)
             base = base_directory or os.path.dirname(os.path.abspath(path))
         else:
             _check_values(job)
             job = with_image_files(job, images)
-            try:
-                text = json.dumps(job, allow_nan=False, default=_array_as_list)
-            except (TypeError, ValueError) as e:
-                raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
-                                 "strings and numbers" % e) from None
+            text = _job_json(job)
             base = base_directory or os.getcwd()
         return Result(_core.run(text, base, progress))
 
 
-def run_isolated(job, progress=None, base_directory=None, cancel=None, environment=None):
+def run_isolated(job, progress=None, base_directory=None, cancel=None, environment=None, hard_deadline=True):
     """Like run(), but the core runs in a child Python process (oraclemesh.worker).
 
     A crash of the native core then raises oraclemesh.Error here instead of ending the
     caller's process (FreeCAD), and cancelling (progress returning False) ends the child at
     once. cancel: an optional threading.Event; setting it (from any thread) ends the child
     within 0.1 s even in phases that report no progress (sliver perturbation, exudation).
-    environment: extra variables for the child only (a batch case's test hooks, see
-    oraclemesh.worker). Costs a process start and a copy of the result arrays.
+    hard_deadline: the child is ended limits.time_limit plus a grace (a tenth of it, 2 to
+    30 s, as the CLI's) after the core's first report, with an oraclemesh.LimitError naming
+    the phase and the B-rep inputs,
+    when a call that reports no progress (OpenCASCADE looping on a damaged shape) keeps the
+    core from its own checkpoint; False leaves the deadline to the caller (oraclemesh.study
+    has its own). environment: extra variables for the child only (a batch case's test
+    hooks, see oraclemesh.worker). Costs a process start and a copy of the result arrays.
     """
     if not isinstance(job, (str, os.PathLike)):
         _check_values(job)
@@ -166,6 +239,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
             base_directory = base_directory or os.path.dirname(job_path)
             with open(job_path) as f:
                 job = json.load(f)
+        brep_inputs = _opencascade_inputs(job)
         job = with_image_files(job, tmp)
         job_path = os.path.join(tmp, "job.json")
         with open(job_path, "w") as f:
@@ -183,39 +257,34 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         stderr_file = open(os.path.join(tmp, "stderr.txt"), "w+")
         child = subprocess.Popen([python, "-m", "oraclemesh.worker", job_path, result_path],
                                  stdout=subprocess.PIPE, stderr=stderr_file, env=env, text=True)
-        cancelled = False
-        watcher = None
-        if cancel is not None:
-            def watch():
-                while child.poll() is None:
-                    if cancel.wait(0.1):
-                        child.send_signal(signal.SIGKILL)
-                        return
-            watcher = threading.Thread(target=watch, name="oraclemesh-cancel", daemon=True)
-            watcher.start()
+        limit = _time_limit(job)
+        grace = _grace(limit)
+        ended = _ChildEnder(child, cancel, limit + grace if hard_deadline else None)
+        phase = ""
         try:
             for line in child.stdout:
-                if not line.startswith("progress ") or progress is None or cancelled:
+                if not line.startswith("progress "):
                     continue
                 _, fraction, phase = line.rstrip("\n").split(" ", 2)
+                ended.core_started()
+                if progress is None or ended.cancelled:
+                    continue
                 if progress(phase, float(fraction)) is False:
-                    cancelled = True
-                    child.send_signal(signal.SIGKILL)
+                    ended.cancel()
         except BaseException:
             # The callback raised (or the caller was interrupted): the child must not go on
             # meshing unobserved, and the exception reaches the caller as itself.
             child.kill()
             child.wait()
+            ended.stop()
             stderr_file.close()
             raise
         code = child.wait()
-        if watcher is not None:
-            watcher.join()
-            cancelled = cancelled or cancel.is_set()
+        ended.stop()
         stderr_file.seek(0)
         stderr = stderr_file.read()
         stderr_file.close()
-        if cancelled:
+        if ended.cancelled:
             raise Cancelled("meshing was cancelled")
         if code == 0:
             with np_load(result_path) as arrays:
@@ -227,10 +296,69 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
                 error = json.load(f)
             raise {"InputError": InputError, "LimitError": LimitError,
                    "Cancelled": Cancelled}.get(error["type"], Error)(error["message"])
+        suspects = ("; OpenCASCADE works on %s: check %s with Part > Check geometry or re-export it"
+                    % (", ".join(brep_inputs), "it" if len(brep_inputs) == 1 else "them")) if brep_inputs else ""
+        if ended.past_deadline:
+            raise LimitError("the job did not end within limits.time_limit = %g s (and %g s of grace) and was "
+                             "stuck in phase '%s'; its process was stopped%s, or coarsen the sizes or raise "
+                             "limits.time_limit" % (limit, grace, phase or "(none reported yet)",
+                                                    suspects or ": an input may be damaged"))
         how = ("was killed by signal %d" % -code) if code < 0 else ("exited with code %d" % code)
-        raise Error("the OracleMesh core crashed on this job (its process %s); the calling "
-                    "program is unaffected. Please report it with the job and this output:\n%s"
-                    % (how, stderr[-2000:]))
+        raise Error("the OracleMesh core crashed on this job in phase '%s' (its process %s); the calling "
+                    "program is unaffected%s. If the inputs are sound, please report it with the job and "
+                    "this output:\n%s" % (phase or "(none reported yet)", how, suspects, stderr[-2000:]))
+
+
+class _ChildEnder:
+    """Kills run_isolated's child on the caller's cancel (an Event or a callback's False)
+    or at the hard deadline, from a thread of its own: a child stuck where it reports no
+    progress writes no line that the reading loop would wake up for. The deadline counts
+    from the core's first report, as the core's own limit does: the child's interpreter and
+    imports may take seconds on a loaded machine, and the core's limit (which names the
+    input and phase better) must stay the first to fire."""
+
+    # How long the child may take to start the core before the deadline counts anyway.
+    STARTUP_SECONDS = 60.0
+
+    def __init__(self, child, cancel_event, deadline_seconds):
+        self.child = child
+        self.cancelled = False
+        self.past_deadline = False
+        self._event = cancel_event
+        self._deadline_seconds = deadline_seconds
+        self._end = None if deadline_seconds is None else time.monotonic() + self.STARTUP_SECONDS + deadline_seconds
+        self._started = False
+        self._done = threading.Event()
+        self._thread = None
+        if cancel_event is not None or deadline_seconds is not None:
+            self._thread = threading.Thread(target=self._watch, name="oraclemesh-child", daemon=True)
+            self._thread.start()
+
+    def core_started(self):
+        if not self._started and self._deadline_seconds is not None:
+            self._started = True
+            self._end = time.monotonic() + self._deadline_seconds
+
+    def _watch(self):
+        while not self._done.is_set() and self.child.poll() is None:
+            if self._event is not None and self._event.is_set():
+                self.cancel()
+                return
+            if self._end is not None and time.monotonic() >= self._end:
+                self.past_deadline = True
+                self.child.kill()
+                return
+            self._done.wait(0.1)
+
+    def cancel(self):
+        self.cancelled = True
+        self.child.kill()
+
+    def stop(self):
+        self._done.set()
+        if self._thread is not None:
+            self._thread.join()
+        self.cancelled = self.cancelled or (self._event is not None and self._event.is_set())
 
 
 def batch(jobs, client=None, **options):
@@ -248,13 +376,21 @@ def _array_as_list(value):
     raise TypeError("%s is not JSON-serialisable" % type(value).__name__)
 
 
+def _job_json(job):
+    try:
+        return json.dumps(job, allow_nan=False, default=_array_as_list)
+    except (TypeError, ValueError) as e:
+        raise InputError("the job is not JSON-serialisable (%s): use plain dicts, lists, "
+                         "strings and numbers" % e) from None
+
+
 def np_load(path):
     return np.load(path, allow_pickle=False)
 
 
 def _with_absolute_paths(job, base):
     """The child runs elsewhere: input and output paths are made absolute first."""
-    job = json.loads(json.dumps(job, default=_array_as_list))
+    job = json.loads(_job_json(job))
     for entry in job.get("inputs", []) if isinstance(job, dict) else []:
         for key in ("file", "image"):
             if isinstance(entry, dict) and isinstance(entry.get(key), str):

@@ -7,7 +7,7 @@ OpenCASCADE) ends this process, not FreeCAD. Speaks to the parent through:
   RESULT.error.json  {"type": "InputError", "message": ...} (on an oraclemesh.Error, exit 2)
 
 Test hook: ORACLEMESH_WORKER_CRASH=<phase> makes this process die of a real segmentation
-fault when the core first reports that phase, so callers (FreeCAD tests) can check that a
+fault when the core first reports that phase (after passing the report on), so callers (FreeCAD tests) can check that a
 crash of the native code becomes an error message in the parent.
 ORACLEMESH_WORKER_HANG=<phase> makes it stop there for good instead (a core stuck where it
 reports no progress), so callers can check that their own deadline ends it (oraclemesh.study).
@@ -48,16 +48,16 @@ def main(job_path, result_path):
     hang_phase = os.environ.get("ORACLEMESH_WORKER_HANG")
 
     def progress(phase, fraction):
+        # The report goes out first: a core crashing or stuck inside a phase has reported it.
+        sys.stdout.write("progress %.6f %s\n" % (fraction, phase))
+        sys.stdout.flush()
         if phase == crash_phase:
-            sys.stdout.flush()
             ctypes.string_at(0)  # reads address 0: SIGSEGV, as a bug in CGAL would
         while phase == hang_phase:
             time.sleep(3600)  # the core's own time limit cannot fire while this blocks
-        sys.stdout.write("progress %.6f %s\n" % (fraction, phase))
-        sys.stdout.flush()
 
     try:
-        result = oraclemesh.run(job_path, progress=progress)
+        result = oraclemesh.run(job_path, progress=progress, isolated=False)  # this is the isolation
     except oraclemesh.Error as e:
         with open(result_path + ".error.json", "w") as f:
             json.dump({"type": type(e).__name__, "message": str(e)}, f)

@@ -15,8 +15,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "Error.h"
 #include "domain/BrepSolid.h"
@@ -59,6 +62,83 @@ void requireFiniteStepPoints(const STEPControl_Reader& reader, const std::string
   }
 }
 
+// The parameter delimiter and record delimiter an IGES file declares at the start of its
+// global section ("1H," and "1H;", or empty fields for those defaults).
+std::pair<char, char> igesDelimiters(const std::string& global) {
+  const bool declared = global.compare(0, 2, "1H") == 0 && global.size() > 2;
+  const char parameter = declared ? global[2] : ',';
+  const size_t second = declared ? 4 : 1;  // past "1Hc" and its delimiter, or the empty field's
+  const char record = global.compare(second, 2, "1H") == 0 && global.size() > second + 2 ? global[second + 2] : ';';
+  return {parameter, record};
+}
+
+// A parameter that reads as a real number (IGES writes 1.5D3 as well as 1.5E3) but is not
+// finite: "1.D999" overflows to infinity, "NaN" is one.
+bool nonFiniteReal(std::string token) {
+  if (token.empty()) return false;
+  for (char& c : token)
+    if (c == 'D' || c == 'd') c = 'E';
+  char* end = nullptr;
+  const double value = std::strtod(token.c_str(), &end);
+  return end == token.c_str() + token.size() && !std::isfinite(value);
+}
+
+// The real numbers of an IGES file's parameter section are checked before OpenCASCADE reads
+// them: on an infinite coordinate its transfer loops, as the STEP transfer did on one. Each
+// entity's parameters are the first 64 columns of its P lines run together (a string may
+// continue on the next line); strings (nH...) are passed over.
+void requireFiniteIgesNumbers(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  std::string global, parameters, entity, line;
+  char delimiter = ',', record = ';';
+  bool delimitersKnown = false;
+  auto check = [&] {
+    size_t pos = 0;
+    while (pos < parameters.size()) {
+      while (pos < parameters.size() && parameters[pos] == ' ') ++pos;
+      size_t digits = pos;
+      while (digits < parameters.size() && std::isdigit(static_cast<unsigned char>(parameters[digits]))) ++digits;
+      if (digits > pos && digits < parameters.size() && parameters[digits] == 'H') {
+        pos = digits + 1 + std::min<size_t>(std::stoul(parameters.substr(pos, std::min<size_t>(digits - pos, 9))),
+                                            parameters.size());
+        while (pos < parameters.size() && parameters[pos] != delimiter && parameters[pos] != record) ++pos;
+        ++pos;
+        continue;
+      }
+      const size_t end = parameters.find_first_of(std::string{delimiter, record}, pos);
+      std::string token = parameters.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+      token.erase(token.find_last_not_of(' ') + 1);  // leading spaces are skipped above
+      if (nonFiniteReal(token))
+        throw InputError(what + " has a number that is not finite (" + token.substr(0, 40) +
+                         ") in the parameters of IGES entity DE " + entity +
+                         ": the file is damaged; export it again from the CAD tool");
+      if (end == std::string::npos) break;
+      pos = end + 1;
+    }
+    parameters.clear();
+  };
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.size() < 73) continue;
+    if (line[72] == 'G') {
+      global += line.substr(0, 72);
+    } else if (line[72] == 'P') {
+      if (!delimitersKnown) {
+        std::tie(delimiter, record) = igesDelimiters(global);
+        delimitersKnown = true;
+      }
+      std::string owner = line.substr(64, 8);
+      owner.erase(0, owner.find_first_not_of(" 0"));  // the directory entry's number, "0000011" as 11
+      if (owner != entity) {
+        check();
+        entity = owner;
+      }
+      parameters += line.substr(0, 64);
+    }
+  }
+  check();
+}
+
 }  // namespace
 
 TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
@@ -79,6 +159,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
         throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
       shape = reader.OneShape();
     } else if (ext == "iges" || ext == "igs") {
+      requireFiniteIgesNumbers(path, what);
       IGESControl_Reader reader;
       if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
         throw InputError(what + " is not a readable IGES file: export it again (IGES 5.3, or better STEP) from the CAD tool");
