@@ -1,0 +1,68 @@
+"""Assembly interfaces through FreeCAD to CalculiX (issue 19 item 3): makeMesh(interfaces=...)
+on two stacked steel plates 200 x 20 x 5, both fixed at x = 0, 100 N down on the top face,
+solved by ccxtools with FreeCAD's own writer, to which the workbench adds the surfaces, *TIE and
+*CONTACT PAIR (scripts/stacked_plates.py). Bonded and tied bend as one 10 mm beam
+(Euler-Bernoulli F L^3 / 8 E I), frictionless contact as two 5 mm beams sharing the load (4x)."""
+import pytest
+
+EULER_BERNOULLI = 100.0 * 200.0 ** 3 / (8 * 210000.0 * 20.0 * 10.0 ** 3 / 12)  # 0.2857 mm
+KINDS = ("bonded", "tied", "contact")
+
+
+@pytest.fixture(scope="module")
+def plates(tmp_path_factory):
+    return {}
+
+
+def solve(run_freecad, plates, kind):
+    if kind not in plates:
+        plates[kind] = run_freecad("stacked_plates.py", {"kind": kind}, timeout=300)
+    return plates[kind]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_plates_reach_calculix_through_freecad(run_freecad, plates, kind):
+    r = solve(run_freecad, plates, kind)
+    print("%s: %d nodes, %d elements, tip deflection %.5f mm (top %.5f, bottom %.5f), "
+          "Euler-Bernoulli %.5f mm, ratio %.3f; cards %s"
+          % (kind, r["nodes"], r["elements"], r["tip_deflection"], r["top_tip"], r["bottom_tip"],
+             EULER_BERNOULLI, r["tip_deflection"] / EULER_BERNOULLI, r["cards"]))
+    assert r["mesh"]["groups_cover_all_once"]
+    # FreeCAD writes the FemMesh's ids, which are the core's: the same element lines.
+    assert r["elements_equal"] and r["elements"] == r["mesh"]["volumes"]
+    (entry,) = r["report_interfaces"]
+    assert sorted(entry["parts"]) == ["Bottom", "Top"] and entry["kind"] == kind
+    assert entry["area"] == pytest.approx(4000, rel=1e-9)
+    names = [c.split(",")[0] for c in r["cards"]]
+    if kind == "bonded":
+        assert "*TIE" not in names and "*CONTACT PAIR" not in names
+        assert r["surfaces_written"] == []
+        assert r["tip_deflection"] == pytest.approx(EULER_BERNOULLI, rel=0.03)
+        return
+    # Both sides of the interface, face by face as the core's own INP has them.
+    assert sorted(r["interface_groups"]) == sorted(entry["surfaces"])
+    assert all(r["surfaces_equal"].values()), r["surfaces_equal"]
+    assert r["step_after_cards"]
+    if kind == "tied":
+        assert names.count("*TIE") == 1 and "*CONTACT PAIR" not in names
+    else:
+        assert names.count("*CONTACT PAIR") == 1 and "*SURFACE INTERACTION" in names
+        assert "*TIE" not in names
+
+
+def test_bonded_and_tied_bend_as_one_beam(run_freecad, plates):
+    bonded = solve(run_freecad, plates, "bonded")["tip_deflection"]
+    tied = solve(run_freecad, plates, "tied")["tip_deflection"]
+    print("bonded %.5f, tied %.5f, Euler-Bernoulli %.5f mm" % (bonded, tied, EULER_BERNOULLI))
+    assert tied == pytest.approx(bonded, rel=0.02)
+    assert bonded == pytest.approx(EULER_BERNOULLI, rel=0.03)
+    assert tied == pytest.approx(EULER_BERNOULLI, rel=0.03)
+
+
+def test_frictionless_contact_bends_as_two_beams(run_freecad, plates):
+    r = solve(run_freecad, plates, "contact")
+    print("contact %.5f mm = %.3f x Euler-Bernoulli; top %.5f, bottom %.5f"
+          % (r["tip_deflection"], r["tip_deflection"] / EULER_BERNOULLI, r["top_tip"], r["bottom_tip"]))
+    assert r["tip_deflection"] == pytest.approx(4.0 * EULER_BERNOULLI, rel=0.03)
+    # Pressed together, the plates stay in contact at the tip.
+    assert abs(r["top_tip"] - r["bottom_tip"]) < 0.01 * r["tip_deflection"]
