@@ -30,7 +30,7 @@ Contact makes CalculiX's static step nonlinear (increments, contact iterations):
 default step (*STATIC, automatic incrementation) serves; user-defined increments (DIRECT) or a
 non-static analysis get a warning in the report view.
 """
-import json
+from .interfaces import last_report
 
 MESH_TYPE = "Fem::OracleMesh"  # mesh_object.TYPE (imported there from here: no cycle)
 # CalculiX faces of a tet, corners 0-based in CalculiX (= FreeCAD) node order.
@@ -126,11 +126,7 @@ def element_faces(femmesh, group, index, where):
 
 def constrained_interfaces(mesh_obj):
     """The report's interfaces that need CalculiX cards (tied and contact pairs)."""
-    try:
-        report = json.loads(mesh_obj.Report) if mesh_obj.Report else {}
-    except ValueError:
-        return []
-    return [e for e in report.get("interfaces", [])
+    return [e for e in last_report(mesh_obj).get("interfaces", [])
             if e.get("kind") in ("tied", "contact") and e.get("constraint")]
 
 

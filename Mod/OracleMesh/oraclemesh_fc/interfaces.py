@@ -183,3 +183,11 @@ def found_pairs(report):
     """[(part a, part b, area, triangles)] of the interfaces in a mesh report (dict)."""
     return [(e["parts"][0], e["parts"][1], float(e.get("area", 0.0)), int(e.get("triangles", 0)))
             for e in report.get("interfaces", []) if len(e.get("parts", ())) == 2]
+
+
+def last_report(mesh_obj):
+    """The mesh object's last report as a dict ({} before the first mesh or if unreadable)."""
+    try:
+        return json.loads(mesh_obj.Report) if mesh_obj.Report else {}
+    except ValueError:
+        return {}
