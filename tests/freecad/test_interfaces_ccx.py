@@ -66,3 +66,26 @@ def test_frictionless_contact_bends_as_two_beams(run_freecad, plates):
     assert r["tip_deflection"] == pytest.approx(4.0 * EULER_BERNOULLI, rel=0.03)
     # Pressed together, the plates stay in contact at the tip.
     assert abs(r["top_tip"] - r["bottom_tip"]) < 0.01 * r["tip_deflection"]
+
+
+def test_contact_lets_the_plates_separate(run_freecad):
+    r = run_freecad("stacked_plates.py", {"kind": "contact", "load": "pull"}, timeout=300)
+    print("pulled apart: top plate tip %.5f mm, bottom %.3g mm" % (-r["top_tip"], -r["bottom_tip"]))
+    # The top plate alone (5 mm, 100 N at its tip: F L^3 / 3 E I = 6.1 mm) lifts off...
+    lift = -r["top_tip"]
+    assert lift > 0.5 * 100.0 * 200.0 ** 3 / (3 * 210000.0 * 20 * 5.0 ** 3 / 12)
+    # ...and the unloaded bottom plate stays put.
+    assert abs(r["bottom_tip"]) < 1e-3 * lift
+
+
+def test_contact_friction_reaches_the_input(run_freecad):
+    r = run_freecad("stacked_plates.py", {"kind": "contact", "friction": 0.2, "write_only": True},
+                    timeout=120)
+    (entry,) = r["report_interfaces"]
+    print("friction %s, slope %g: %s" % (entry["friction"], entry["contact_stiffness"],
+                                         r["friction_lines"]))
+    assert entry["friction"] == 0.2
+    # mu, then the stick slope (a hundredth of the normal slope, as the core writes it).
+    (line,) = r["friction_lines"]
+    mu, stick = (float(v) for v in line.split(","))
+    assert mu == 0.2 and stick == pytest.approx(0.01 * entry["contact_stiffness"], rel=1e-9)

@@ -1,9 +1,11 @@
 """Two steel plates 200 x 20 x 5 mm stacked (bottom z 0..5, top z 5..10), both fixed at x = 0,
-100 N down on the top face, joined as params["kind"] by makeMesh(interfaces=...), meshed by
+100 N down on the top face (params["load"] "pull": 100 N up on the top plate's tip face),
+joined as params["kind"] (optional params["friction"]) by makeMesh(interfaces=...), meshed by
 OracleMesh (tet10, cell size 5) and solved by CalculiX through FreeCAD's FEM workbench
 (ccxtools: FreeCAD's own writer, with the workbench's tie / contact cards).
 
-Returns the mean tip deflection and what the written input holds: FreeCAD's element lines and
+params["write_only"]: FreeCAD writes the input, nothing is solved. Returns the mean tip
+deflection and what the written input holds: FreeCAD's element lines and
 interface surfaces against the core's own INP of the same mesh (params["workdir"]/core.inp)."""
 import os
 import sys
@@ -51,6 +53,13 @@ def inp_blocks(path):
     return {"elements": elements, "surfaces": surfaces, "cards": cards}
 
 
+def friction_lines(path):
+    """The data line after each *FRICTION card."""
+    with open(path) as f:
+        lines = [line.strip() for line in f]
+    return [lines[i + 1] for i, line in enumerate(lines) if line.upper().startswith("*FRICTION")]
+
+
 def check(params):
     import FreeCAD
     import ObjectsFem
@@ -67,19 +76,33 @@ def check(params):
     fixed.References = [(top, h.face_where(top, "x", 0)), (bottom, h.face_where(bottom, "x", 0))]
     analysis.addObject(fixed)
     force = ObjectsFem.makeConstraintForce(doc, "ConstraintForce")
-    force.References = [(top, h.face_where(top, "z", 10))]
+    pulled = params.get("load") == "pull"
+    # Pressing: 100 N down on the top face. Pulling: 100 N up on the top plate's tip face.
+    force.References = [(top, h.face_where(top, "x", 200) if pulled else h.face_where(top, "z", 10))]
     force.Force = 100.0
     force.Direction = (top, [h.edge_along(top, "z")])
     force.Reversed = False
-    force.Reversed = force.DirectionVector.z > 0  # press down (-z)
+    force.Reversed = (force.DirectionVector.z > 0) != pulled
     analysis.addObject(force)
 
     core_inp = os.path.join(workdir, "core.inp")
-    settings = {"pairs": [{"between": ["Top", "Bottom"], "kind": params["kind"]}]}
+    pair = {"between": ["Top", "Bottom"], "kind": params["kind"]}
+    if "friction" in params:
+        pair["friction"] = params["friction"]
+    settings = {"pairs": [pair]}
     mesh = makeMesh(doc, [top, bottom], analysis=analysis, cell_size=5.0, facet_size=5.0,
                     element_order=2, seed=0, interfaces=settings,
                     output={"files": [core_inp]})
     facts = h.recompute_mesh(doc, mesh)
+    if params.get("write_only"):  # FreeCAD's writer only: what the input holds
+        from femtools import ccxtools
+        fea = ccxtools.FemToolsCcx(analysis, solver)
+        fea.update_objects()
+        fea.setup_working_dir(os.path.join(workdir, "ccx"))
+        fea.write_inp_file()
+        import json
+        return {"friction_lines": friction_lines(fea.inp_file_name),
+                "report_interfaces": json.loads(mesh.Report)["interfaces"]}
     disp, inp = h.solve_displacements(analysis, solver, os.path.join(workdir, "ccx"))
     fm = mesh.FemMesh
     nodes = fm.Nodes
@@ -108,6 +131,7 @@ def check(params):
         "mesh": facts, "status": mesh.Status, "nodes": fm.NodeCount,
         "interfaces_property": mesh.Interfaces,
         "report_interfaces": report["interfaces"],
+        "friction_lines": friction_lines(inp),
         "cards": [c for c in written["cards"]
                   if c.split(",")[0] in ("*TIE", "*CONTACT PAIR", "*SURFACE INTERACTION",
                                          "*SURFACE BEHAVIOR", "*FRICTION", "*STEP", "*STATIC")],
