@@ -24,6 +24,10 @@ def test_pin_in_plate_solves_with_its_interface(run_freecad, kind):
     expected = 1 if kind == "contact" else 0
     assert r["cards"].count("*CONTACT PAIR") == expected
     assert r["reopened_cards"].count("*CONTACT PAIR") == expected
+    assert r["framework_cards"].count("*CONTACT PAIR") == expected
+    print("solver framework: max displacement %s" % r["framework_max_displacement"])
+    assert max(r["max_displacement"].values()) == pytest.approx(r["framework_max_displacement"],
+                                                                rel=1e-3)
     # The plate, fixed at one end and pulled down at the other, bends (1.27 mm bonded, 1.30 mm
     # in contact: the pin stiffens it less); the pin goes along.
     plate, pin = r["max_displacement"]["Aluminium_Volumes"], r["max_displacement"]["Steel_Volumes"]

@@ -1,7 +1,8 @@
 """The demo assembly (oraclemesh_fc.demo: a steel pin through an aluminium plate, one corner
 cut away, the plate fixed at x = 0 and pulled down at x = 100) with the pin-plate interface
 params["kind"], meshed by OracleMesh and solved by CalculiX through FreeCAD (ccxtools).
-Then saved, reopened and written again: the setting and the cards survive."""
+Then saved, reopened and written again: the setting and the cards survive; and solved by the
+solver framework's CalculiX object (femsolver.run, what its task panel runs)."""
 import json
 import math
 import os
@@ -69,6 +70,23 @@ def check(params):
     fea.setup_working_dir(os.path.join(workdir, "reopened"))
     fea.write_inp_file()
     out["reopened_cards"] = card_names(fea.inp_file_name)
+
+    # The solver framework's CalculiX (FreeCAD's other CalculiX solver object), run as its
+    # task panel runs it: the same writer, so the same cards, and it solves.
+    import ObjectsFem
+    from femsolver import run
+    framework = ObjectsFem.makeSolverCalculix(doc, "CalculiXFramework")
+    framework.AnalysisType = "static"
+    framework.GeometricalNonlinearity = "linear"
+    analysis.addObject(framework)
+    analysis.removeObject(solver)
+    folder = os.path.join(workdir, "framework")
+    os.makedirs(folder, exist_ok=True)
+    run.run_fem_solver(framework, folder)
+    inps = [os.path.join(folder, f) for f in os.listdir(folder) if f.endswith(".inp")]
+    out["framework_cards"] = card_names(inps[0]) if inps else []
+    results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
+    out["framework_max_displacement"] = max(results[-1].DisplacementLengths) if results else None
     return out
 
 
