@@ -93,3 +93,15 @@ def test_contact_friction_reaches_the_input(run_freecad):
     (line,) = r["friction_lines"]
     mu, stick = (float(v) for v in line.split(","))
     assert mu == 0.2 and stick == pytest.approx(0.01 * entry["contact_stiffness"], rel=1e-9)
+
+
+def test_tet4_tie_equals_bonded(run_freecad):
+    """C3D4 faces are numbered as C3D10's corners: a tie of tet4 plates is their bonded mesh."""
+    r = {kind: run_freecad("stacked_plates.py", {"kind": kind, "element_order": 1}, timeout=120)
+         for kind in ("bonded", "tied")}
+    print("tet4: bonded %.5f, tied %.5f mm" % (r["bonded"]["tip_deflection"], r["tied"]["tip_deflection"]))
+    tied = r["tied"]
+    assert tied["mesh"]["nodes_per_volume"] == 4 and tied["elements_equal"]
+    assert all(tied["surfaces_equal"].values()) and len(tied["surfaces_equal"]) == 2
+    assert [c.split(",")[0] for c in tied["cards"]].count("*TIE") == 1
+    assert tied["tip_deflection"] == pytest.approx(r["bonded"]["tip_deflection"], rel=0.02)
