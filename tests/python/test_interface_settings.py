@@ -89,3 +89,22 @@ def test_oriented_key_tells_the_two_sides_apart():
     assert ccx_interfaces.oriented_key(3, 1, 2) == ccx_interfaces.oriented_key(1, 2, 3)
     assert ccx_interfaces.oriented_key(2, 3, 1) == (1, 2, 3)
     assert ccx_interfaces.oriented_key(1, 3, 2) != ccx_interfaces.oriented_key(1, 2, 3)
+
+
+def test_the_stiffer_part_is_master():
+    moduli = {"Pin": 210000.0, "Plate": 70000.0, "Bolt": 210000.0, "Nut": 210000.0}
+    settings = interfaces.normalized({"default": "contact", "pairs": [
+        {"between": ["Plate", "Pin"], "kind": "tied"},
+        {"between": ["Plate", "Cover"], "kind": "contact", "master": "Cover"}]})
+    job = interfaces.with_stiffer_masters(settings, moduli, [("Pin", "Plate"), ("Bolt", "Plate"),
+                                                            ("Bolt", "Nut")])
+    by_pair = {frozenset(p["between"]): p for p in job["pairs"]}
+    assert by_pair[frozenset(("Pin", "Plate"))]["master"] == "Pin"  # listed, tied
+    assert by_pair[frozenset(("Plate", "Cover"))]["master"] == "Cover"  # the user's choice
+    assert by_pair[frozenset(("Bolt", "Plate"))] == {"between": ["Bolt", "Plate"], "kind": "contact",
+                                                     "master": "Bolt"}  # by the default
+    assert "master" not in by_pair[frozenset(("Bolt", "Nut"))]  # equal: the core decides
+    assert job["default"] == "contact"
+    # The stored settings are not changed, and bonded defaults add no pairs.
+    assert "master" not in settings["pairs"][0]
+    assert interfaces.with_stiffer_masters({}, moduli, [("Pin", "Plate")]) == {}

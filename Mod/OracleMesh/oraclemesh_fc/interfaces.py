@@ -179,6 +179,28 @@ def with_kinds(settings, default, kinds):
     return normalized(out)
 
 
+def with_stiffer_masters(settings, moduli, touching):
+    """The settings for the job: every tied or contact pair without a master gets the part of
+    the larger Young's modulus as master (moduli {part: E}; parts of equal or unknown E are
+    left to the core, which takes the coarser side). The pairs are those listed, and those of
+    `touching` [(a, b)] (the last mesh's interfaces) that the default makes tied or contact."""
+    out = {k: v for k, v in settings.items() if k != "pairs"}
+    pairs = [dict(p) for p in settings.get("pairs", [])]
+    listed = {frozenset(p["between"]) for p in pairs}
+    if default_kind(settings) in ("tied", "contact"):
+        pairs += [{"between": [a, b], "kind": default_kind(settings)} for a, b in touching
+                  if frozenset((a, b)) not in listed]
+    for p in pairs:
+        a, b = p["between"]
+        if p["kind"] in ("tied", "contact") and "master" not in p \
+                and moduli.get(a) is not None and moduli.get(b) is not None \
+                and moduli[a] != moduli[b]:
+            p["master"] = a if moduli[a] > moduli[b] else b
+    if pairs:
+        out["pairs"] = pairs
+    return out
+
+
 def found_pairs(report):
     """[(part a, part b, area, triangles)] of the interfaces in a mesh report (dict)."""
     return [(e["parts"][0], e["parts"][1], float(e.get("area", 0.0)), int(e.get("triangles", 0)))

@@ -22,7 +22,8 @@ import math
 
 import FreeCAD
 
-from .interfaces import InterfaceSettingsError, check_part_names
+from .interfaces import (InterfaceSettingsError, check_part_names, found_pairs, last_report,
+                         with_stiffer_masters)
 from .interfaces import from_text as interface_from_text
 from .input_objects import (  # noqa: F401 (also the names other modules import from here)
     MeshInputError, global_mesh, global_shape, is_mesh_feature, priority_entries)
@@ -393,7 +394,9 @@ def build_job(mesh_obj):
             check_interface_parts(settings, entries, "Interfaces of '%s'" % mesh_obj.Label)
         except InterfaceSettingsError as e:
             raise MeshInputError(str(e)) from None
-        job["interfaces"] = settings
+        touching = [(a, b) for a, b, _, _ in found_pairs(last_report(mesh_obj))]
+        job["interfaces"] = with_stiffer_masters(
+            settings, youngs_moduli(material_entries, materials), touching)
 
     groups = volume_groups(material_entries, materials, dict(getattr(mesh_obj, "InputMaterialNames", {})))
     return job, groups, described, polyline_names
@@ -407,6 +410,21 @@ def check_interface_parts(settings, entries, where):
     if not any(part.solid is None and not is_mesh_feature(part.obj)
                and len(global_shape(part.obj).Solids) > 1 for part in materials):
         check_part_names(settings, [part.label for part in materials], where)
+
+
+def youngs_moduli(material_entries, materials):
+    """{part label: Young's modulus in MPa} of the parts a FEM material with a modulus covers
+    (its References, else FreeCAD's "everything else" material with empty References)."""
+    fallback = [m for m in materials if not m.References]
+    moduli = {}
+    for part, _ in material_entries:
+        owners = [m for m in materials if references(m, part.obj, part.solid)] or fallback
+        text = owners[0].Material.get("YoungsModulus") if owners else None
+        try:
+            moduli[part.label] = FreeCAD.Units.Quantity(text).getValueAs("MPa").Value
+        except Exception:  # no modulus, or text FreeCAD cannot read: the core decides
+            continue
+    return moduli
 
 
 def interface_settings(mesh_obj):
