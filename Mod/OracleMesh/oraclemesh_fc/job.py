@@ -394,7 +394,10 @@ def build_job(mesh_obj):
             check_interface_parts(settings, entries, "Interfaces of '%s'" % mesh_obj.Label)
         except InterfaceSettingsError as e:
             raise MeshInputError(str(e)) from None
-        touching = [(a, b) for a, b, _, _ in found_pairs(last_report(mesh_obj))]
+        # Pairs of the last mesh whose parts are still parts (not renamed or removed since).
+        labels = {part.label for part, _ in material_entries}
+        touching = [(a, b) for a, b, _, _ in found_pairs(last_report(mesh_obj))
+                    if a in labels and b in labels]
         job["interfaces"] = with_stiffer_masters(
             settings, youngs_moduli(material_entries, materials), touching)
 
