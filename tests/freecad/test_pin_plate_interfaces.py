@@ -7,7 +7,8 @@ import pytest
 
 @pytest.mark.parametrize("kind", ["bonded", "contact"])
 def test_pin_in_plate_solves_with_its_interface(run_freecad, kind):
-    r = run_freecad("pin_plate_interfaces.py", {"kind": kind}, timeout=300)
+    r = run_freecad("pin_plate_interfaces.py", {"kind": kind, "then_default_contact": kind == "bonded"},
+                    timeout=300)
     entry = r["entry"]
     print("%s: %s; interface %s area %.4f (report, flat), groups %s, cylinder %.4f; max "
           "displacement %s; %d result(s); cards %s"
@@ -34,3 +35,15 @@ def test_pin_in_plate_solves_with_its_interface(run_freecad, kind):
     # in contact: the pin stiffens it less); the pin goes along.
     plate, pin = r["max_displacement"]["Aluminium_Volumes"], r["max_displacement"]["Steel_Volumes"]
     assert 1.0 < plate < 1.6 and 0.3 * plate < pin < plate
+    if kind == "bonded":
+        # Then the default made contact and the pin renamed SteelPin: it meshes (the last mesh's
+        # pair under the old name is not passed on), in contact; meshed once more, the pair
+        # the last mesh found gets the steel pin as master.
+        assert r["renamed_valid"], r["renamed_status"]
+        (renamed,) = r["renamed_interfaces"]
+        assert sorted(renamed["parts"]) == ["Plate", "SteelPin"] and renamed["kind"] == "contact"
+        (remeshed,) = r["remeshed_interfaces"]
+        assert remeshed["master"] == "Interface_SteelPin_Plate", remeshed
+        # The job names the master from the FEM materials (steel 210000 over aluminium 70000 MPa).
+        assert r["job_interfaces"] == {"default": "contact", "pairs": [
+            {"between": ["SteelPin", "Plate"], "kind": "contact", "master": "SteelPin"}]}

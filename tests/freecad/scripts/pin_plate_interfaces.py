@@ -87,6 +87,23 @@ def check(params):
     out["framework_cards"] = card_names(inps[0]) if inps else []
     results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
     out["framework_max_displacement"] = max(results[-1].DisplacementLengths) if results else None
+
+    if params.get("then_default_contact"):
+        # The default made contact and the pin renamed since the last mesh: the pairs that mesh
+        # found keep their stiffer master only under the parts' present names.
+        pin = doc.getObject(names[0]).Inputs[0]
+        mesh.Interfaces = '{"default": "contact"}'
+        pin.Label = "SteelPin"
+        doc.recompute()
+        out["renamed_status"] = mesh.Status
+        out["renamed_valid"] = bool(mesh.isValid())
+        out["renamed_interfaces"] = json.loads(mesh.Report)["interfaces"]
+        doc.recompute()  # meshed again, now the last mesh names the pin SteelPin
+        mesh.touch()
+        doc.recompute()
+        out["remeshed_interfaces"] = json.loads(mesh.Report)["interfaces"]
+        from oraclemesh_fc.job import build_job
+        out["job_interfaces"] = build_job(mesh)[0]["interfaces"]
     return out
 
 
