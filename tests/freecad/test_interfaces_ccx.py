@@ -82,9 +82,9 @@ def test_contact_lets_the_plates_separate(run_freecad):
     assert abs(r["bottom_tip"]) < 1e-3 * lift
 
 
-def test_contact_friction_reaches_the_input(run_freecad):
-    r = run_freecad("stacked_plates.py", {"kind": "contact", "friction": 0.2, "write_only": True},
-                    timeout=120)
+def test_contact_friction_reaches_the_input_and_follows_the_mesh(run_freecad):
+    r = run_freecad("stacked_plates.py", {"kind": "contact", "friction": 0.2, "write_only": True,
+                                          "then_tied": True}, timeout=120)
     (entry,) = r["report_interfaces"]
     print("friction %s, slope %g: %s" % (entry["friction"], entry["contact_stiffness"],
                                          r["friction_lines"]))
@@ -93,6 +93,11 @@ def test_contact_friction_reaches_the_input(run_freecad):
     (line,) = r["friction_lines"]
     mu, stick = (float(v) for v in line.split(","))
     assert mu == 0.2 and stick == pytest.approx(0.01 * entry["contact_stiffness"], rel=1e-9)
+    # Interfaces changed after the mesh: the input still has the mesh's contact, and the
+    # report view says to mesh again.
+    assert "*CONTACT PAIR" in r["keywords"] and "*TIE" not in r["keywords"]
+    with open(r["log"]) as f:
+        assert "recompute the mesh first to use the new settings" in f.read()
 
 
 def test_tet4_tie_equals_bonded(run_freecad):

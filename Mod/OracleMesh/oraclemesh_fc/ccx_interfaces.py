@@ -200,6 +200,12 @@ def _add_interface_cards(f, ccxwriter):
     mesh_obj = getattr(ccxwriter, "mesh_object", None)
     if getattr(getattr(mesh_obj, "Proxy", None), "Type", None) != MESH_TYPE:
         return
+    if "Touched" in mesh_obj.State:
+        # The cards follow the mesh (its report), not settings changed since.
+        FreeCAD.Console.PrintWarning(
+            "OracleMesh '%s' has changed settings it was not meshed with (Interfaces among "
+            "them?): CalculiX gets the last mesh and its ties and contacts; recompute the mesh "
+            "first to use the new settings\n" % mesh_obj.Label)
     text = cards(mesh_obj)
     if not text:
         return

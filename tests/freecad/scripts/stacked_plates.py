@@ -97,12 +97,16 @@ def check(params):
     facts = h.recompute_mesh(doc, mesh)
     if params.get("write_only"):  # FreeCAD's writer only: what the input holds
         from femtools import ccxtools
+        if params.get("then_tied"):  # changed, not meshed again: the input follows the mesh
+            mesh.Interfaces = '{"default": "tied"}'
         fea = ccxtools.FemToolsCcx(analysis, solver)
         fea.update_objects()
         fea.setup_working_dir(os.path.join(workdir, "ccx"))
         fea.write_inp_file()
         import json
-        return {"friction_lines": friction_lines(fea.inp_file_name),
+        with open(fea.inp_file_name) as f:
+            keywords = [line.split(",")[0].strip().upper() for line in f if line.startswith("*")]
+        return {"friction_lines": friction_lines(fea.inp_file_name), "keywords": keywords,
                 "report_interfaces": json.loads(mesh.Report)["interfaces"]}
     disp, inp = h.solve_displacements(analysis, solver, os.path.join(workdir, "ccx"))
     fm = mesh.FemMesh
