@@ -13,13 +13,24 @@ EXPECTED = {
     "not_a_shape": ["justagroup", "no shape"],
     "unknown_size_key": ["nope", "inputsizes"],
     "listed_twice": ["goodbox", "twice"],
+    "interface_unknown_part": ["interfaces of", "'nope' is no part", "'goodbox'"],
+    "interface_bad_kind": ["interfaces of", "default = 'glued'", "bonded, tied, contact"],
+    "interface_not_json": ["interfaces of", "no json", "empty for all bonded"],
+}
+# makeMesh(interfaces=...) case -> words of its refusal (lower case): the key and the fix.
+REFUSED = {
+    "kind": ["interfaces=...).pairs[0].kind = 'glued'", "bonded, tied, contact, separate"],
+    "friction": ["pairs[0].friction", "contact' only"],
+    "part": ["pairs[0].between[1] = 'nope' is no part", "'goodbox', 'other'"],
+    "key": ["unknown key(s) 'mu'", "friction"],
 }
 
 
 
 
 def test_bad_inputs_fail_cleanly(run_freecad):
-    r = run_freecad("bad_inputs.py", timeout=900)["cases"]
+    r_all = run_freecad("bad_inputs.py", timeout=900)
+    r = r_all["cases"]
     problems = []
     for case, words in EXPECTED.items():
         c = r[case]
@@ -37,4 +48,12 @@ def test_bad_inputs_fail_cleanly(run_freecad):
     # Linking an object twice is said as soon as it is linked, not as a traceback.
     assert any("listed twice" in k for k in r["listed_twice"]["kinds"]), r["listed_twice"]
     assert r["recovered"], "the mesh did not recompute after the inputs were fixed"
+    for case, words in REFUSED.items():
+        c = r_all["refused"][case]
+        print("makeMesh refused %-9s %s" % (case, c["message"]))
+        text = (c["message"] or "").lower()
+        missing = [w for w in words if w not in text]
+        if c["message"] is None or missing or not c["objects_kept"]:
+            problems.append("makeMesh(interfaces=%s): %s, lacks %s, objects kept %s"
+                            % (case, c["message"], missing, c["objects_kept"]))
     assert not problems, "\n".join(problems)

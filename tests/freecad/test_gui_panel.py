@@ -1,6 +1,7 @@
 """The task panel in FreeCAD's default combo view width and the traps of issue 17, in the real
 FreeCAD GUI under Xvfb (scripts/gui_panel.py drives one FreeCAD session; each test judges its
 section of it)."""
+import json
 import re
 
 import pytest
@@ -129,3 +130,23 @@ def test_refused_object_says_what_it_is(gui):
     assert "'Plane' (Part::Plane) is a face, not a solid" in message
     assert "solids, compounds of solids" in message and "Mesh objects" in message
     assert r["objects"] == ["Part::Plane"]
+
+
+def test_interfaces_table_sets_the_pairs(gui):
+    r = part(gui, "interfaces")
+    print("pairs %s kinds %s default %s; after contact: %s, stored %s, face groups %s"
+          % (r["pairs_shown"], r["kinds_shown"], r["default_shown"], r["report_kinds"],
+             r["stored"], r["face_groups"]))
+    # The pairs of the last mesh, all bonded until set.
+    assert r["pairs_shown"] == ["Pin - Plate"] and r["kinds_shown"] == ["bonded"]
+    assert r["default_shown"] == "bonded" and not r["note_before"]
+    assert r["choices"] == ["bonded", "tied", "contact", "separate"]
+    assert r["ok"] and r["messages"] == []
+    assert json.loads(r["stored"]) == {"pairs": [{"between": ["Pin", "Plate"], "kind": "contact"}]}
+    assert r["report_kinds"] == {"Pin - Plate": "contact"}
+    # Split: both sides of the interface are surfaces of the mesh.
+    assert {"Interface_Pin_Plate", "Interface_Plate_Pin"} <= set(r["face_groups"])
+    assert r["kinds_after_mesh"] == ["contact"] and r["kinds_reopened"] == ["contact"]
+    assert not r["touched_after_ok"]
+    assert json.loads(r["stored_with_default"]) == {
+        "default": "tied", "pairs": [{"between": ["Pin", "Plate"], "kind": "contact"}]}

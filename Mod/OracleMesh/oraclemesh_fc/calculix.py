@@ -7,7 +7,9 @@ import os
 
 
 def run_calculix(analysis, solver, workdir):
-    """Write the .inp, run ccx, load the results. Returns (result object, inp path).
+    """Write the .inp, run ccx, load the results. Returns (result object, inp path); the
+    result is the step's end (a nonlinear step, e.g. with contact, loads one result object
+    per increment, in time order).
 
     Raises RuntimeError with CalculiX's last output when any step fails."""
     from femtools import ccxtools
@@ -30,4 +32,4 @@ def run_calculix(analysis, solver, workdir):
     results = [o for o in analysis.Group if o.isDerivedFrom("Fem::FemResultObject")]
     if not results:
         raise RuntimeError("no CalculiX results were loaded from " + workdir)
-    return results[0], fea.inp_file_name
+    return results[-1], fea.inp_file_name

@@ -7,8 +7,8 @@ here when the GUI is up, is view_provider.py.
 """
 import FreeCAD
 
-from .job import extra_edge_links
-from . import step_labels
+from .job import check_interface_parts, extra_edge_links
+from . import interfaces, step_labels
 from .mesh_object import OracleMeshProxy
 from .parts import input_parts, store_labels
 
@@ -46,10 +46,13 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     (the STEP file compound inputs were imported from: their solids' names),
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output
     ({"files": [...], "report": path}), extra_edges (curves kept as mesh edges: objects
-    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs).
+    (every edge: a sketch, a wire) or (object, "EdgeN") / (object, ["Edge1", ...]) pairs),
+    interfaces (how touching parts are joined: {"default": "bonded", "pairs": [{"between":
+    ["Pin", "Plate"], "kind": "contact", "friction": 0.2, "master": "Plate"}]}, kinds bonded,
+    tied, contact, separate, parts by label or as objects; see interfaces.py).
     """
     known = set(OPTION_PROPERTIES) | {"material_sizes", "output", "extra_edges", "whole_inputs",
-                                      "step_file"}
+                                      "step_file", "interfaces"}
     unknown = sorted(set(job_options) - known)
     if unknown:
         raise TypeError("makeMesh() got unknown option(s) %s: known options are %s"
@@ -60,6 +63,9 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
                          "an analysis holds objects of its own document only; pass an analysis "
                          "of '%s' or none" % (analysis.Label, analysis.Document.Label, doc.Label,
                                               doc.Label))
+
+    # Checked before the object exists too: a refused call leaves nothing behind.
+    settings = interfaces.normalized(job_options.get("interfaces"), "makeMesh(interfaces=...)")
 
     obj = doc.addObject("Fem::FemMeshObjectPython", name)
     OracleMeshProxy(obj)
@@ -92,6 +98,12 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     obj.OutputFiles = [str(f) for f in output.get("files", [])]
     obj.OutputReport = str(output.get("report", ""))
     obj.ExtraEdges = extra_edge_links(job_options.get("extra_edges") or ())
+    obj.Interfaces = interfaces.to_text(settings)
+    try:
+        check_interface_parts(settings, input_parts(obj), "makeMesh(interfaces=...)")
+    except interfaces.InterfaceSettingsError:
+        doc.removeObject(obj.Name)
+        raise
     if analysis is not None:
         analysis.addObject(obj)
     return obj

@@ -7,8 +7,8 @@ order 12, 23, 31, 14, 24, 34 (1-based). Swapping corners 1 and 2 (0-based) flips
 the mid nodes follow the swapped corners:
     FreeCAD corners  c0 c2 c1 c3
     FreeCAD mids     (c0,c2)=m20 (c2,c1)=m12 (c1,c0)=m01 (c0,c3)=m03 (c2,c3)=m23 (c1,c3)=m13
-CalculiX (C3D10) uses the same order as FreeCAD, so an error here shows up as a failed or
-nonsensical ccx run; the orientation is checked before anything is handed to FreeCAD.
+FreeCAD's writeABAQUS swaps corners 1 and 2 back when it writes C3D4/C3D10 (CalculiX's order
+is the core's, positive), so an error here shows up as a failed or nonsensical ccx run; the orientation is checked before anything is handed to FreeCAD.
 
 Only numpy and FreeCAD's Fem module are needed, so the same function serves the OracleMesh
 object and tests that feed it meshes from other generators (e.g. Gmsh).

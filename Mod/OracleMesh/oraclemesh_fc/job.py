@@ -22,6 +22,9 @@ import math
 
 import FreeCAD
 
+from .interfaces import (InterfaceSettingsError, check_part_names, found_pairs, last_report,
+                         with_stiffer_masters)
+from .interfaces import from_text as interface_from_text
 from .input_objects import (  # noqa: F401 (also the names other modules import from here)
     MeshInputError, global_mesh, global_shape, is_mesh_feature, priority_entries)
 
@@ -385,5 +388,53 @@ def build_job(mesh_obj):
         if mesh_obj.OutputReport:
             job["output"]["report"] = mesh_obj.OutputReport
 
+    settings = interface_settings(mesh_obj)
+    if settings:
+        try:
+            check_interface_parts(settings, entries, "Interfaces of '%s'" % mesh_obj.Label)
+        except InterfaceSettingsError as e:
+            raise MeshInputError(str(e)) from None
+        # Pairs of the last mesh whose parts are still parts (not renamed or removed since).
+        labels = {part.label for part, _ in material_entries}
+        touching = [(a, b) for a, b, _, _ in found_pairs(last_report(mesh_obj))
+                    if a in labels and b in labels]
+        job["interfaces"] = with_stiffer_masters(
+            settings, youngs_moduli(material_entries, materials), touching)
+
     groups = volume_groups(material_entries, materials, dict(getattr(mesh_obj, "InputMaterialNames", {})))
     return job, groups, described, polyline_names
+
+
+def check_interface_parts(settings, entries, where):
+    """The parts the interface settings name are material parts of entries [(InputPart,
+    role)]. A whole input of several solids is one part the core names itself: then the
+    core checks the names (its error lists its part names)."""
+    materials = [part for part, role in entries if role != "cut"]
+    if not any(part.solid is None and not is_mesh_feature(part.obj)
+               and len(global_shape(part.obj).Solids) > 1 for part in materials):
+        check_part_names(settings, [part.label for part in materials], where)
+
+
+def youngs_moduli(material_entries, materials):
+    """{part label: Young's modulus in MPa} of the parts a FEM material with a modulus covers
+    (its References, else FreeCAD's "everything else" material with empty References)."""
+    fallback = [m for m in materials if not m.References]
+    moduli = {}
+    for part, _ in material_entries:
+        owners = [m for m in materials if references(m, part.obj, part.solid)] or fallback
+        text = owners[0].Material.get("YoungsModulus") if owners else None
+        try:
+            moduli[part.label] = FreeCAD.Units.Quantity(text).getValueAs("MPa").Value
+        except Exception:  # no modulus, or text FreeCAD cannot read: the core decides
+            continue
+    return moduli
+
+
+def interface_settings(mesh_obj):
+    """The mesh object's checked interface settings ({} = all bonded); MeshInputError naming
+    the property when its text is bad."""
+    try:
+        return interface_from_text(getattr(mesh_obj, "Interfaces", ""),
+                                   "Interfaces of '%s'" % mesh_obj.Label)
+    except InterfaceSettingsError as e:
+        raise MeshInputError(str(e)) from None

@@ -13,6 +13,7 @@ import time
 
 import FreeCAD
 
+from . import ccx_interfaces
 from .handoff import build_femmesh, feature_edge_mid_nodes
 from .input_checks import cut_warnings
 from .job import MeshInputError, build_job, input_kinds, name_polylines, priority_entries
@@ -25,7 +26,12 @@ ENGINE_NAMES = ("thesis", "cgal")
 # What documents saved before the Engine property existed were meshed with.
 ENGINE_OF_OLD_DOCUMENTS = "cgal"
 
-TYPE = "Fem::OracleMesh"
+TYPE = ccx_interfaces.MESH_TYPE
+
+
+# FreeCAD's CalculiX writer gets the ties and contacts of OracleMesh meshes from here on: this
+# module is imported wherever a mesh object exists (made, or restored from a document).
+ccx_interfaces.install()
 
 
 class MeshingFailed(Exception):
@@ -98,6 +104,12 @@ PROPERTIES = (
     ("App::PropertyLinkSubList", "ExtraEdges", "Mesh",
      "Extra curves kept as chains of mesh edges: picked edges (EdgeN) of any shape, and whole "
      "sketches or shapes (all their edges); each must lie inside or on the meshed parts", None),
+    ("App::PropertyString", "Interfaces", "Interfaces",
+     "How touching parts are joined, as JSON: {\"default\": \"bonded\", \"pairs\": "
+     "[{\"between\": [\"Pin\", \"Plate\"], \"kind\": \"contact\"}]}; kinds bonded (shared "
+     "nodes), tied (*TIE), contact (*CONTACT PAIR, optional \"friction\"), separate; parts "
+     "named as the report's interfaces name them; empty = all bonded. Ties and contacts "
+     "reach FreeCAD's CalculiX input by themselves (ccx_interfaces.py)", ""),
     ("App::PropertyIntegerList", "FeatureEdges", "Output",
      "Sharp and junction edges of the last mesh, as pairs of FemMesh node ids (drawn by the "
      "view)", None),

@@ -14,6 +14,8 @@ it back on Apply, Mesh or OK (one undo step each), so Cancel leaves the object a
   the global value), a global cell size and coarse / moderate / fine presets.
 - Engine, sharp-edge angle, junctions, planar faces, element order, optimisation.
 - Extra edges kept as mesh edges: edges picked in the 3D view, whole sketches or shapes.
+- Interfaces: per pair of touching parts the last mesh found, bonded / tied / contact /
+  separate, and the default of the others (interface_table.py); used by the next mesh.
 - The report of the last mesh: tets and volume per material, dihedral angles, warnings (the
   core's, and small angles between the faces of an input, see input_checks.py), or why
   meshing failed.
@@ -24,13 +26,13 @@ value the core will use (sizes.py). Traps are said where they are set: a cut wit
 material input below it, which would remove nothing. OK and Apply without a change write
 nothing, so the mesh is not touched (no remesh on the next recompute).
 """
-import json
 
 import FreeCADGui
 from PySide import QtCore, QtGui
 
 from . import job as jobmod
-from . import input_rows, preferences
+from . import input_rows, interfaces, preferences
+from .interface_table import InterfaceBox
 from . import sizes
 from .panel_widgets import AutomaticDelegate, fit_columns, fit_text, narrow_form, show_rows
 from .input_checks import cut_warnings, input_warnings
@@ -103,6 +105,10 @@ class TaskPanel:
         self.extra_edges = [(ref[0], sub) for ref in mesh_obj.ExtraEdges
                             for sub in (jobmod._subnames(ref) or ("",))]
         self.diagonal, self.automatic = 0.0, {}  # model size and sizes of the rows shown
+        try:
+            self.interface_settings = jobmod.interface_settings(mesh_obj)
+        except jobmod.MeshInputError:
+            self.interface_settings = {}  # a bad property text: meshing says what is wrong
         self.form = self.build_form()
         self.load_options()
         self.refresh_inputs()
@@ -145,7 +151,9 @@ class TaskPanel:
                 return tuple(plain(v) for v in value)
             return value
         rows = tuple(plain(vars(r)) for r in self.rows)
-        return rows, plain(self.extra_edges), self.option_values()
+        # The settings the table makes, not its rows: the rows a new mesh adds change nothing.
+        return (rows, plain(self.extra_edges), self.option_values(),
+                interfaces.to_text(self.interfaces.settings(self.interface_settings)))
 
     def option_values(self):
         return (self.cell_size.value(), self.facet_distance.value(), self.engine.currentData(),
@@ -165,6 +173,10 @@ class TaskPanel:
         o.ElementOrder = self.element_order.currentData()
         o.Optimize = self.optimize.isChecked()
         o.ExtraEdges = jobmod.extra_edge_links(self.extra_edges)
+        self.interface_settings = self.interfaces.settings(self.interface_settings)
+        text = interfaces.to_text(self.interface_settings)
+        if o.Interfaces != text:
+            o.Interfaces = text
 
     # ------------------------------------------------------------------ widgets
 
@@ -321,6 +333,9 @@ class TaskPanel:
         self.extra_remove_button.clicked.connect(self.remove_extra_edges)
         layout.addWidget(box)
 
+        self.interfaces = InterfaceBox(VISIBLE_ROWS)
+        layout.addWidget(self.interfaces.box)
+
         actions = QtGui.QHBoxLayout()
         self.apply_button = QtGui.QPushButton("Apply")
         self.apply_button.setToolTip("Write the settings into the mesh object (no meshing)")
@@ -405,6 +420,7 @@ class TaskPanel:
         self.element_order.setCurrentIndex(max(self.element_order.findData(o.ElementOrder), 0))
         self.optimize.setChecked(bool(o.Optimize))
         self.refresh_extra_edges()
+        self.interfaces.load(self.interface_settings, interfaces.last_report(o))
 
     def material_choices(self):
         return [AUTO_MATERIAL] + [m.Label for m in self.fem_materials]
@@ -630,6 +646,8 @@ class TaskPanel:
         finally:
             self.doc.commitTransaction()
         ok = bool(self.obj.isValid()) and self.obj.FemMesh.VolumeCount > 0
+        if ok:  # the pairs this mesh found, with the settings just applied
+            self.interfaces.load(self.interface_settings, interfaces.last_report(self.obj))
         # A selected mesh is drawn all in FreeCAD's highlight colour, over the material colours.
         FreeCADGui.Selection.removeSelection(self.obj)
         self.show_inputs(not ok and self.obj.FemMesh.VolumeCount == 0)
@@ -682,10 +700,7 @@ def report_html(obj):
     failed = not obj.isValid() or "failed" in obj.Status
     parts = ['<p style="color:%s"><b>%s</b></p>' % ("#b00000" if failed else "black",
                                                      esc(obj.Status or "Not meshed yet."))]
-    try:
-        report = json.loads(obj.Report) if obj.Report else {}
-    except ValueError:
-        report = {}
+    report = interfaces.last_report(obj)
     warnings = list(report.get("warnings", []))
     warnings += input_warnings(obj)
     if warnings:

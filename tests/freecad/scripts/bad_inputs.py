@@ -38,6 +38,10 @@ def check(params):
         "not_a_shape": {"Inputs": [good, group]},
         "unknown_size_key": {"InputSizes": {"Nope": "1"}},
         "listed_twice": {"Inputs": [good, good]},
+        "interface_unknown_part": {"Interfaces": '{"pairs": [{"between": ["GoodBox", "Nope"], '
+                                                 '"kind": "tied"}]}'},
+        "interface_bad_kind": {"Interfaces": '{"default": "glued"}'},
+        "interface_not_json": {"Interfaces": '{"default": bonded'},
     }
     out = {}
     for case, props in cases.items():
@@ -57,7 +61,26 @@ def check(params):
             setattr(mesh, k, v)
     doc.recompute()
     out["recovered"] = mesh.isValid() and mesh.FemMesh.VolumeCount > 0
-    return {"cases": out}
+
+    # makeMesh refuses bad interface settings before it makes anything.
+    refusals = {
+        "kind": {"pairs": [{"between": ["GoodBox", "Other"], "kind": "glued"}]},
+        "friction": {"pairs": [{"between": ["GoodBox", "Other"], "kind": "tied", "friction": 0.2}]},
+        "part": {"pairs": [{"between": ["GoodBox", "Nope"], "kind": "contact"}]},
+        "key": {"pairs": [{"between": ["GoodBox", "Other"], "kind": "contact", "mu": 0.2}]},
+    }
+    other = h.box(doc, "Other", 20, 0, 0, 10, 10, 10)
+    doc.recompute()
+    names = sorted(o.Name for o in doc.Objects)
+    refused = {}
+    for case, settings in refusals.items():
+        try:
+            makeMesh(doc, [good, other], interfaces=settings)
+            refused[case] = {"message": None}
+        except ValueError as e:
+            refused[case] = {"message": str(e)}
+        refused[case]["objects_kept"] = sorted(o.Name for o in doc.Objects) == names
+    return {"cases": out, "refused": refused}
 
 
 h.main(check)

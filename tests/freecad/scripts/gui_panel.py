@@ -8,6 +8,8 @@ section records its traceback and the others still run):
   automatic   the sizes "automatic" shows against the criteria the core reports after meshing;
               the time shown against the wall time of the mesh
   untouched   OK without a change: the mesh object is not touched, a recompute does not mesh
+  interfaces  the pairs the last mesh found, one combo box each: contact chosen, meshed,
+              stored, shown again on reopening; the default combo
   failure     a forced failure inside the hand-off, on a meshed object and on a new one:
               message box, Status, the panel's report, the inputs shown again
   other_doc   an active analysis in another document: the command makes one mesh, in no
@@ -311,6 +313,47 @@ def check(out):
         r["changed_written"] = [mesh.SharpAngle.Value, "Touched" in mesh.State]
         mesh.SharpAngle = 30.0  # meshed (and failing) in the next section
 
+    def interfaces(r):
+        mesh = state["mesh"]
+        mesh.ViewObject.Proxy.doubleClicked(mesh.ViewObject)
+        pump()
+        panel = task_panel.current
+        box = panel.interfaces
+        r["pairs_shown"] = [box.table.item(i, 0).text() for i in range(box.table.rowCount())]
+        r["kinds_shown"] = [box.table.cellWidget(i, 1).currentText()
+                            for i in range(box.table.rowCount())]
+        r["default_shown"] = box.default.currentText()
+        r["note_before"] = box.note.isVisible()
+        row = r["pairs_shown"].index("Pin - Plate")
+        combo = box.table.cellWidget(row, 1)
+        r["choices"] = [combo.itemText(k) for k in range(combo.count())]
+        combo.setCurrentIndex(r["choices"].index("contact"))
+        n = len(boxes.texts)
+        r["ok"] = panel.mesh()
+        r["messages"] = boxes.since(n)
+        r["stored"] = mesh.Interfaces
+        report = json.loads(mesh.Report)
+        r["report_kinds"] = {" - ".join(e["parts"]): e["kind"] for e in report["interfaces"]}
+        r["face_groups"] = sorted(mesh.FemMesh.getGroupName(g) for g in mesh.FemMesh.Groups
+                                  if mesh.FemMesh.getGroupElementType(g) == "Face")
+        r["kinds_after_mesh"] = [box.table.cellWidget(i, 1).currentText()
+                                 for i in range(box.table.rowCount())]
+        panel.accept()
+        pump()
+        r["touched_after_ok"] = "Touched" in mesh.State
+        # Reopened: the panel shows what the object stores.
+        mesh.ViewObject.Proxy.doubleClicked(mesh.ViewObject)
+        pump()
+        box = task_panel.current.interfaces
+        r["kinds_reopened"] = [box.table.cellWidget(i, 1).currentText()
+                               for i in range(box.table.rowCount())]
+        # The default combo: every pair not in the table's own choice follows it.
+        box.default.setCurrentIndex(box.default.findText("tied"))
+        task_panel.current.accept()
+        pump()
+        r["stored_with_default"] = mesh.Interfaces
+        mesh.Interfaces = ""  # the next sections mesh bonded
+
     def failure(r):
         mesh = state["mesh"]
         mesh.ViewObject.Proxy.doubleClicked(mesh.ViewObject)
@@ -394,6 +437,7 @@ def check(out):
     section(out, "cut_last", cut_last)
     section(out, "automatic", automatic)
     section(out, "untouched", untouched)
+    section(out, "interfaces", interfaces)
     section(out, "failure", failure)
     section(out, "other_doc", other_doc)
     section(out, "refused", refused)
