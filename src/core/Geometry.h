@@ -18,6 +18,7 @@ inline Point3 cross(const Point3& a, const Point3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 inline double norm(const Point3& a) { return std::sqrt(dot(a, a)); }
+inline bool isFinite(const Point3& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
 inline double distance(const Point3& a, const Point3& b) { return norm(a - b); }
 
 // Distance from p to the segment ab; `parameter` (if given) gets the nearest point's position

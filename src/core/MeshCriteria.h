@@ -3,6 +3,9 @@
 // Lengths are in model units (mm in FreeCAD).
 #include <algorithm>
 #include <map>
+#include <memory>
+
+#include "sizing/SizeField.h"
 
 namespace oraclemesh {
 
@@ -17,15 +20,57 @@ struct MaterialCriteria {
   double facet_distance = 0;          // distance of facet circumcentre to the surface
   double facet_angle = 25;            // minimum facet angle, degrees (0 = off)
   double edge_size = 0;               // feature edge length bound (protecting balls)
+  // Which of the sizes above the job left unset, so that the sizing field (CriteriaTable::field)
+  // lowers them where the geometry asks for it; a size the user gave is taken as it is.
+  struct FromField {
+    bool cell_size = false, facet_size = false, facet_distance = false, edge_size = false;
+  } from_field;
 };
+
+// How the sizes the sizing field gives turn into the other criteria. The facet distance as
+// resolveCriteria derives it from a facet size (job/ResolvedCriteria.cpp); edges at the size
+// itself, not half of it as there: the field is already the local size (12 segments around a
+// circle on its faces), and halving it again made the presse's feature curves twice as dense
+// as its surfaces for nothing but time.
+constexpr double kFacetDistancePerSize = 0.1;
+constexpr double kEdgeSizePerSize = 1.0;
 
 struct CriteriaTable {
   MaterialCriteria defaults;
   std::map<int, MaterialCriteria> per_material;  // already merged with the defaults
+  // Sizes from the geometry (curvature, short edges, wall thickness); null when the job
+  // leaves sizing to the constants alone.
+  std::shared_ptr<const SizeField> field;
 
   const MaterialCriteria& of(int material) const {
     auto it = per_material.find(material);
     return it == per_material.end() ? defaults : it->second;
+  }
+
+  // The criteria at p, a point of (or on the boundary of) `material`: the constants, lowered by
+  // the sizing field where the job left them unset.
+  double cellSizeAt(int material, const Point3& p) const {
+    const MaterialCriteria& c = of(material);
+    return field && c.from_field.cell_size ? std::min(c.cell_size, field->at(p)) : c.cell_size;
+  }
+  double facetSizeAt(int material, const Point3& p) const {
+    const MaterialCriteria& c = of(material);
+    return field && c.from_field.facet_size ? std::min(c.facet_size, field->at(p)) : c.facet_size;
+  }
+  double facetDistanceAt(int material, const Point3& p) const {
+    const MaterialCriteria& c = of(material);
+    return field && c.from_field.facet_distance ? std::min(c.facet_distance, kFacetDistancePerSize * field->at(p))
+                                                : c.facet_distance;
+  }
+  // Feature edges belong to no one material: the strictest edge_size, lowered by the field
+  // unless some material was given its edge size.
+  double edgeSizeAt(const Point3& p) const {
+    const double strict = strictest(&MaterialCriteria::edge_size);
+    if (!field) return strict;
+    if (!defaults.from_field.edge_size) return strict;
+    for (const auto& [material, c] : per_material)
+      if (!c.from_field.edge_size) return strict;
+    return std::min(strict, kEdgeSizePerSize * field->at(p));
   }
 
   // The strictest value of one criterion over all materials, for settings that take one value

@@ -115,8 +115,8 @@ TEST(JobValidation, SizesFarBelowTheModelNameTheirKey) {
   job["criteria"] = {{"default", {{"cell_size", 1e-5}}}};  // 3e-6 of the diagonal
   spec = JobSpec::fromJson(job, ".");
   const CriteriaTable table = resolveCriteria(spec, 3.46);
-  const std::vector<OracleEntry> entries{{std::make_shared<Sphere>(Point3{0, 0, 0}, 1.0, "ball"), Role::Material, 1}};
-  const std::string message = inputErrorOf([&] { checkExpectedSize(spec, entries, table); });
+  const HierarchicalOracle oracle({{std::make_shared<Sphere>(Point3{0, 0, 0}, 1.0, "ball"), Role::Material, 1}});
+  const std::string message = inputErrorOf([&] { checkExpectedSize(spec, oracle, table); });
   EXPECT_TRUE(contains(message, "would give about 6.3e+15 vertices, more than limits.max_vertices = 5000000")) << message;
 }
 

@@ -30,6 +30,7 @@ OPTION_PROPERTIES = {
     "junctions": "Junctions",
     "planar_faces": "PlanarFaces",
     "engine": "Engine",
+    "fineness": "Fineness",
 }
 
 
@@ -41,7 +42,8 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     job_options: cell_size, cell_radius_edge_ratio, facet_size, facet_distance, facet_angle,
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
     and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
-    engine ("thesis", the default, or "cgal"), optimize, seed, max_vertices, time_limit,
+    engine ("thesis", the default, or "cgal"), fineness ("off", the default, "very coarse", "coarse",
+    "moderate", "fine" or "very fine": sizes from the geometry), optimize, seed, max_vertices, time_limit,
     whole_inputs (compounds meshed as one input instead of one part per solid), step_file
     (the STEP file compound inputs were imported from: their solids' names),
     material_sizes ({input object, Name or Label: cell size or dict of criteria}), output

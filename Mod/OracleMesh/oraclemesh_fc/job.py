@@ -370,9 +370,13 @@ def build_job(mesh_obj):
                 "switch PlanarFaces off" % mesh_obj.Label)
         features["planar_faces"] = True
 
+    criteria = {"default": default, "materials": per_material}
+    fineness = str(getattr(mesh_obj, "Fineness", "off"))
+    if fineness != "off":
+        criteria["fineness"] = fineness.replace(" ", "_")
     job = {
         "inputs": job_inputs,
-        "criteria": {"default": default, "materials": per_material},
+        "criteria": criteria,
         "features": features,
         "engine": str(getattr(mesh_obj, "Engine", "thesis")),
         "element_order": int(mesh_obj.ElementOrder),

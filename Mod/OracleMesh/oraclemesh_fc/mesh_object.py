@@ -19,6 +19,7 @@ from .input_checks import cut_warnings
 from .job import MeshInputError, build_job, input_kinds, name_polylines, priority_entries
 from .proxy import StatelessProxy
 from .runner import import_core, run_job
+from .sizes import FINENESS_NAMES
 
 # The job's "engine" values; the first is the default of new mesh objects. Rule Set T is the
 # default since it beat Mesh_3 on the refine benchmark (issue 7).
@@ -64,6 +65,11 @@ PROPERTIES = (
      "Smallest surface triangle angle, at most 30 degrees (0 = automatic: 25)", 0.0),
     ("App::PropertyLength", "EdgeSize", "Sizes",
      "Largest segment length along sharp edges (0 = automatic: facet size/2)", 0.0),
+    ("App::PropertyEnumeration", "Fineness", "Sizes",
+     "Sizes from the geometry below the sizes above: segments per circle on curved faces "
+     "(6 / 8 / 12 / 18 / 24 from very coarse to very fine), two segments per short sharp edge, "
+     "walls several sizes thick, graded; off (the default) = the sizes above alone",
+     list(FINENESS_NAMES)),
     ("App::PropertyIntegerConstraint", "ElementOrder", "Mesh",
      "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
      (2, 1, 2, 1)),

@@ -156,7 +156,8 @@ class TaskPanel:
                 interfaces.to_text(self.interfaces.settings(self.interface_settings)))
 
     def option_values(self):
-        return (self.cell_size.value(), self.facet_distance.value(), self.engine.currentData(),
+        return (self.cell_size.value(), self.facet_distance.value(), self.fineness.currentData(),
+                self.engine.currentData(),
                 self.sharp_angle.value(), self.junctions.isChecked(),
                 self.planar_faces.isChecked(), self.element_order.currentData(),
                 self.optimize.isChecked())
@@ -166,6 +167,7 @@ class TaskPanel:
         input_rows.write_rows(o, self.rows, self.fem_materials)
         o.CellSize = self.cell_size.value()
         o.FacetDistance = self.facet_distance.value()
+        o.Fineness = self.fineness.currentData()
         o.Engine = self.engine.currentData()
         o.SharpAngle = self.sharp_angle.value()
         o.Junctions = self.junctions.isChecked()
@@ -248,8 +250,13 @@ class TaskPanel:
         self.facet_distance = self.length_box()
         self.facet_distance.setToolTip("Largest distance of a surface triangle from the CAD "
                                        "surface (0 = automatic: facet size / 10)")
+        self.fineness = QtGui.QComboBox()
+        for name in sizes.FINENESS_NAMES:
+            self.fineness.addItem(name, name)
+        self.fineness.setToolTip(self.obj.getDocumentationOfProperty("Fineness"))
         grid.addRow("Cell size", self.cell_size)
         grid.addRow("Facet distance", self.facet_distance)
+        grid.addRow("From geometry", self.fineness)
         v.addLayout(grid)
         presets = QtGui.QHBoxLayout()
         self.preset_buttons = {}
@@ -413,6 +420,7 @@ class TaskPanel:
         o = self.obj
         self.cell_size.setValue(jobmod._value(o.CellSize))
         self.facet_distance.setValue(jobmod._value(o.FacetDistance))
+        self.fineness.setCurrentIndex(max(self.fineness.findData(str(getattr(o, "Fineness", "off"))), 0))
         self.engine.setCurrentIndex(max(self.engine.findData(o.Engine), 0))
         self.sharp_angle.setValue(jobmod._value(o.SharpAngle))
         self.junctions.setChecked(bool(o.Junctions))

@@ -138,25 +138,27 @@ class PhaseTimer {
 // A facet between two materials takes the finer of their two bounds.
 class MaterialSizeField {
  public:
-  MaterialSizeField(const Domain* domain, const CriteriaTable* table, double MaterialCriteria::*field)
-      : domain_(domain), table_(table), field_(field) {}
+  using SizeAt = double (CriteriaTable::*)(int, const Point3&) const;
+  MaterialSizeField(const Domain* domain, const CriteriaTable* table, SizeAt sizeAt)
+      : domain_(domain), table_(table), sizeAt_(sizeAt) {}
 
-  FT operator()(const Point_3&, const int dim, const Domain::Index& index) const {
-    if (dim == 3) return table_->of(domain_->subdomain_index(index)).*field_;
+  FT operator()(const Point_3& p, const int dim, const Domain::Index& index) const {
+    const Point3 at{p.x(), p.y(), p.z()};
+    if (dim == 3) return (table_->*sizeAt_)(domain_->subdomain_index(index), at);
     if (dim == 2) {
       const auto patch = domain_->surface_patch_index(index);
       double size = std::numeric_limits<double>::infinity();
       for (int material : {patch.first, patch.second})
-        if (material > 0) size = std::min(size, table_->of(material).*field_);
+        if (material > 0) size = std::min(size, (table_->*sizeAt_)(material, at));
       if (std::isfinite(size)) return size;
     }
-    return table_->defaults.*field_;
+    return (table_->*sizeAt_)(0, at);  // material 0: the defaults
   }
 
  private:
   const Domain* domain_;
   const CriteriaTable* table_;
-  double MaterialCriteria::*field_;
+  SizeAt sizeAt_;
 };
 
 // The protecting-ball radius Mesh_3 asks for along the features: the features layer's local
@@ -384,10 +386,10 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
   namespace p = CGAL::parameters;
   const FeatureEdgeSizeField edgeSizes(&domain, &features, &options.feature_edge_sizes, edgeSize);
   Criteria criteria(p::edge_size = edgeSizes, p::facet_angle = facetAngle,
-                    p::facet_size = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_size),
-                    p::facet_distance = MaterialSizeField(&domain, &table, &MaterialCriteria::facet_distance),
+                    p::facet_size = MaterialSizeField(&domain, &table, &CriteriaTable::facetSizeAt),
+                    p::facet_distance = MaterialSizeField(&domain, &table, &CriteriaTable::facetDistanceAt),
                     p::cell_radius_edge_ratio = radiusEdge,
-                    p::cell_size = MaterialSizeField(&domain, &table, &MaterialCriteria::cell_size));
+                    p::cell_size = MaterialSizeField(&domain, &table, &CriteriaTable::cellSizeAt));
 
   C3t3 c3t3;
   progressSource = &c3t3;

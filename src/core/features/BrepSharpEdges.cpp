@@ -128,7 +128,8 @@ bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, do
 }
 
 FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
-                               double maxSegmentLength, double sagittaTolerance) {
+                               double maxSegmentLength, double sagittaTolerance,
+                               const std::function<double(const Point3&)>& localSegmentLength) {
   if (!(maxSegmentLength > 0) || !std::isfinite(maxSegmentLength))
     throw InputError("input '" + solid.name() + "': the feature edge size must be a positive number (edge_size), got " +
                      std::to_string(maxSegmentLength));
@@ -192,8 +193,16 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
       if (firstVertex.IsNull() || lastVertex.IsNull()) continue;  // infinite edge: not in a solid
       const bool closed = firstVertex.IsSame(lastVertex);
       BRepAdaptor_Curve curve(forward);
+      double segmentLength = maxSegmentLength;
+      if (localSegmentLength) {
+        constexpr int kProbes = 8;
+        for (int k = 0; k <= kProbes; ++k) {
+          const double u = curve.FirstParameter() + (curve.LastParameter() - curve.FirstParameter()) * k / kProbes;
+          segmentLength = std::min(segmentLength, localSegmentLength(toPoint3(curve.Value(u))));
+        }
+      }
       std::vector<double> params = polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(),
-                                                      maxSegmentLength, sagittaTolerance, closed ? 3 : 1);
+                                                      segmentLength, sagittaTolerance, closed ? 3 : 1);
       const auto neighbours = narrow.find(e);
       if (neighbours != narrow.end()) {
         // Near a narrow corner the chords keep a fraction of the gap to the neighbouring

@@ -4,6 +4,8 @@
 #include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
 
+#include <functional>
+
 #include "domain/BrepTopology.h"
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureGraph.h"
@@ -21,8 +23,11 @@ namespace oraclemesh {
 // Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
 // sagittaTolerance > 0 replaces featureSagittaTolerance (CurveSampling.h) as the chord bound.
+// localSegmentLength, when given, lowers maxSegmentLength per edge to its smallest value along
+// the edge (the sizing field's edge size).
 FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
-                               double maxSegmentLength, double sagittaTolerance = 0);
+                               double maxSegmentLength, double sagittaTolerance = 0,
+                               const std::function<double(const Point3&)>& localSegmentLength = {});
 
 // Outward unit normal of `face` at curve parameter u of `edge` (through the edge's pcurve on
 // that face); false where the surface is singular (apex, pole).

@@ -30,7 +30,9 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
     const auto* solid = oracle.entries()[i].source->brepTopology();
     if (!solid) continue;
-    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta);
+    std::function<double(const Point3&)> localEdgeSize;
+    if (table.field) localEdgeSize = [&table](const Point3& p) { return table.edgeSizeAt(p); };
+    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta, localEdgeSize);
     for (FeaturePolyline& pl : g.polylines) {
       pl.curve = nextCurve++;  // extraction numbers per solid; the graph needs global ids
       all.polylines.push_back(std::move(pl));

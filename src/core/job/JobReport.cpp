@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Error.h"
+#include "sizing/Fineness.h"
 
 namespace oraclemesh {
 
@@ -90,9 +91,29 @@ json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>
   return engineReport;
 }
 
+// report.criteria.size_field: what the geometry asked for, where the job left sizes unset.
+json sizeFieldJson(const std::string& fineness, const SizeField& field) {
+  const FinenessPreset* preset = findFineness(fineness);
+  json samples = json::object();
+  for (int r = 0; r < kSizeReasonCount; ++r)
+    samples[sizeReasonName(static_cast<SizeReason>(r))] = field.sampleCount(static_cast<SizeReason>(r));
+  json j = {{"fineness", fineness}, {"grading", field.grading()}, {"largest", field.cap()},
+            {"samples", samples}};
+  if (preset) {
+    j["segments_per_circle"] = preset->segments_per_circle;
+    j["sizes_per_thickness"] = preset->sizes_per_thickness;
+  }
+  if (field.sampleCount() > 0)
+    j["smallest"] = {{"size", field.smallestSize()}, {"at", field.smallestAt()},
+                     {"reason", sizeReasonName(field.smallestReason())}};
+  return j;
+}
+
 json criteriaReportJson(const JobReport& r) {
   json crit = {{"default", criteriaJson(r.criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : r.criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
+  crit["fineness"] = r.fineness;
+  if (r.criteria.field) crit["size_field"] = sizeFieldJson(r.fineness, *r.criteria.field);
   if (r.engine_run.mesh3) {
     const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
     crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;

@@ -102,6 +102,7 @@ struct JobReport {
   std::vector<InputReport> inputs;
   double bbox_diagonal = 0;
   CriteriaTable criteria;
+  std::string fineness = "off";  // the sizing field's preset (criteria.fineness), or "off"
   FeatureReport features;
   std::vector<SmallInputAngle> small_input_angles;
   double small_input_angle_limit_deg = 0;

@@ -11,6 +11,7 @@
 #include "Error.h"
 #include "job/JobJson.h"
 #include "mesh/Writers.h"
+#include "sizing/Fineness.h"
 
 namespace oraclemesh {
 namespace {
@@ -384,7 +385,16 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (job.contains("criteria")) {
     const json& c = job["criteria"];
     if (!c.is_object()) throw InputError("'criteria' must be an object with 'default' and/or 'materials'");
-    rejectUnknownKeys(c, {"default", "materials"}, "criteria");
+    rejectUnknownKeys(c, {"default", "materials", "fineness"}, "criteria");
+    if (c.contains("fineness")) {
+      const json& f = c["fineness"];
+      if (!f.is_string() || (f.get<std::string>() != "off" && !findFineness(f.get<std::string>()))) {
+        std::string names;
+        for (const FinenessPreset& p : kFinenessPresets) names += std::string(p.name) + ", ";
+        throw InputError("criteria.fineness = " + shortDump(f) + " is not a fineness: use one of " + names + "or \"off\"");
+      }
+      spec.fineness = f.get<std::string>();
+    }
     if (c.contains("default")) spec.default_criteria = parseCriteria(c["default"], "criteria.default");
     if (c.contains("materials")) {
       if (!c["materials"].is_object()) throw InputError("criteria.materials must map material ids to criteria, e.g. {\"1\": {\"cell_size\": 1}}");

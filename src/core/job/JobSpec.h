@@ -80,6 +80,9 @@ struct JobSpec {
   std::vector<InputSpec> inputs;  // highest priority first
   CriteriaSpec default_criteria;
   std::map<int, CriteriaSpec> material_criteria;
+  // "criteria.fineness": a preset of sizing/Fineness.h, or "off" (constant sizes only, also
+  // when unset: the field is not yet the default, see README "Known limits").
+  std::optional<std::string> fineness;
   bool features = true;
   double sharp_angle_deg = 30;
   bool junctions = true;  // curves where two inputs' boundaries cross become features

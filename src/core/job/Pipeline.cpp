@@ -47,11 +47,13 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   if (diagonal > 1e5)
     report.warnings.push_back("the model is over 100 m across (" + std::to_string(diagonal) +
                               " model units): FreeCAD works in mm, check the units of the inputs");
-  const CriteriaTable criteria = resolveCriteria(job, diagonal);
-  checkExpectedSize(job, oracle.entries(), criteria);
+  CriteriaTable criteria = resolveCriteria(job, diagonal);
+  attachSizeField(criteria, job, oracle, control);
+  checkExpectedSize(job, oracle, criteria);
   report.inputs = describeInputs(oracle, inputs);
   report.bbox_diagonal = diagonal;
   report.criteria = criteria;
+  if (criteria.field) report.fineness = jobFineness(job)->name;
   // Part names are known now: a misspelt one in "interfaces" stops the job before meshing.
   const MaterialNames names = partNames(report.inputs);
   report.interfaces = resolveInterfaces(job.interfaces, names);

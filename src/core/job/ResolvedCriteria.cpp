@@ -8,6 +8,7 @@
 #include <string>
 
 #include "Error.h"
+#include "sizing/GeometrySizes.h"
 
 namespace oraclemesh {
 
@@ -79,6 +80,8 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
   base.cell_radius_edge_ratio = d.cell_radius_edge_ratio.value_or(2);
   base.facet_angle = d.facet_angle.value_or(25);
   base.edge_size = d.edge_size.value_or(base.facet_size / 2);
+  const bool sized = jobFineness(job) != nullptr;
+  base.from_field = {sized && !d.cell_size, sized && !d.facet_size, sized && !d.facet_distance, sized && !d.edge_size};
   table.defaults = base;
 
   std::set<int> materials;
@@ -91,14 +94,48 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
   for (int id : materials) {
     auto it = job.material_criteria.find(id);
     table.per_material[id] = it == job.material_criteria.end() ? base : resolve(it->second, base);
+    if (it != job.material_criteria.end()) {
+      MaterialCriteria::FromField& use = table.per_material[id].from_field;
+      use.cell_size = use.cell_size && !it->second.cell_size;
+      use.facet_size = use.facet_size && !it->second.facet_size;
+      use.facet_distance = use.facet_distance && !it->second.facet_distance;
+      use.edge_size = use.edge_size && !it->second.edge_size;
+    }
     checkSizesAgainstModel(job, id, table.per_material[id], diagonal);
   }
   return table;
 }
 
+const FinenessPreset* jobFineness(const JobSpec& job) {
+  return job.fineness ? findFineness(*job.fineness) : nullptr;  // "off" is no preset
+}
+
+void attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
+                     const RunControl& control) {
+  const FinenessPreset* fineness = jobFineness(job);
+  if (!fineness) return;
+  const double sharpAngle = job.features ? job.sharp_angle_deg : 0;
+  const double cap = table.defaults.cell_size;
+  GeometrySizes sizes = geometrySizes(oracle, *fineness, sharpAngle, cap, static_cast<double>(job.max_vertices), control);
+  if (!(sizes.surface_vertices <= static_cast<double>(job.max_vertices))) {
+    const Point3& at = sizes.smallest.point;
+    char where[160];
+    std::snprintf(where, sizeof where, "%g at (%g, %g, %g), from %s", sizes.smallest.size, at[0], at[1], at[2],
+                  sizeReasonName(sizes.smallest.reason));
+    throw InputError("the sizes the geometry asks for (criteria.fineness " + std::string(fineness->name) +
+                     ", smallest size on input '" + oracle.entries()[sizes.largest_entry].source->name() + "' " + where +
+                     ") would give about " + roughCount(sizes.surface_vertices) +
+                     " vertices on the surfaces alone, more than limits.max_vertices = " + std::to_string(job.max_vertices) +
+                     ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
+  }
+  table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap,
+                                                  kSmallestSizeOfDiagonal * oracle.diagonal(), oracle.bbox());
+}
+
 // Refuse up front what would blow the vertex limit: a tet whose circumradius is near the
 // bound has about 0.11 r^3 of volume and a mesh has about six tets per vertex.
-void checkExpectedSize(const JobSpec& job, const std::vector<OracleEntry>& entries, const CriteriaTable& table) {
+void checkExpectedSize(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table) {
+  const std::vector<OracleEntry>& entries = oracle.entries();
   double expected = 0;
   for (const OracleEntry& e : entries) {
     if (e.role != Role::Material) continue;

@@ -6,16 +6,29 @@
 #include "MeshCriteria.h"
 #include "domain/HierarchicalOracle.h"
 #include "job/JobSpec.h"
+#include "sizing/Fineness.h"
 
 namespace oraclemesh {
+
+class RunControl;
 
 // Defaults follow the bounding-box diagonal; per-material entries are merged over them.
 // Throws InputError when criteria.materials names a material no input has, or when a size is
 // below a millionth of the diagonal (naming the key it came from: wrong units).
 CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 
+// The fineness preset the job asks for (criteria.fineness); nullptr for "off" or none.
+const FinenessPreset* jobFineness(const JobSpec& job);
+
+// Puts the sizing field of the job's fineness (sizing/GeometrySizes.h) into `table`, capped by
+// the default cell size; nothing when the job's fineness is off. Throws InputError when the
+// sizes the geometry asks for would give more surface vertices than limits.max_vertices
+// (naming the input, the smallest size, where and why).
+void attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
+                     const RunControl& control);
+
 // Throws InputError when the material entries' volumes at their cell sizes would give more
 // vertices than limits.max_vertices.
-void checkExpectedSize(const JobSpec& job, const std::vector<OracleEntry>& entries, const CriteriaTable& table);
+void checkExpectedSize(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& table);
 
 }  // namespace oraclemesh

@@ -34,8 +34,6 @@ struct EdgeHash {
 using EdgeKey = std::array<int64_t, 2>;  // smaller vertex index first
 EdgeKey edgeKey(int64_t a, int64_t b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
 
-bool isFinite(const Point3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
-
 }  // namespace
 
 int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {

@@ -55,7 +55,9 @@ struct CellVerdict {
 // The cell criteria of one material.
 class CellCriteria {
  public:
-  explicit CellCriteria(const MaterialCriteria& c) : size_{c.cell_size}, radiusEdge_{c.cell_radius_edge_ratio} {}
+  // `cellSize`: the material's cell size where the cell is (CriteriaTable::cellSizeAt).
+  CellCriteria(const MaterialCriteria& c, double cellSize) : size_{cellSize}, radiusEdge_{c.cell_radius_edge_ratio} {}
+  explicit CellCriteria(const MaterialCriteria& c) : CellCriteria(c, c.cell_size) {}
   CellVerdict judge(const CellShape& shape) const;
 
  private:

@@ -96,8 +96,10 @@ double RuleSetTRefiner::longestEdge(CH c) {
 // How far a cell is beyond its material's criteria (> 1: bad); 0 when good or outside.
 double RuleSetTRefiner::cellBadness(CH c, bool* sizeFails, std::string* reason) const {
   if (dt_.is_infinite(c) || c->info().label <= 0) return 0;
+  const int label = c->info().label;
   const CellVerdict verdict =
-      CellCriteria(options_.criteria.of(c->info().label)).judge(measureCell(cornerPoints(c), c->info().radius));
+      CellCriteria(options_.criteria.of(label), options_.criteria.cellSizeAt(label, c->info().circumcentre))
+          .judge(measureCell(cornerPoints(c), c->info().radius));
   if (sizeFails) *sizeFails = verdict.sizeFails;
   if (reason && verdict.badness > 0) *reason = verdict.reason;
   return verdict.badness;

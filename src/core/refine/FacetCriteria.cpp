@@ -47,6 +47,13 @@ double FacetCriteria::bound(const FacetShape& f, double MaterialCriteria::*field
   return bound;
 }
 
+double FacetCriteria::bound(const FacetShape& f, double (CriteriaTable::*sizeAt)(int, const Point3&) const) const {
+  double bound = std::numeric_limits<double>::infinity();
+  for (int m : {f.labelA, f.labelB})
+    if (m > 0) bound = std::min(bound, (table_.*sizeAt)(m, f.ballCentre));
+  return bound;
+}
+
 FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
   FacetVerdict v;
   if (FacetOnBoundaryCriterion().fails(f)) {
@@ -56,12 +63,12 @@ FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
   }
   double worst = 0;
   const double r = FacetSizeCriterion::ballRadius(f);
-  const FacetSizeCriterion size{bound(f, &MaterialCriteria::facet_size)};
+  const FacetSizeCriterion size{bound(f, &CriteriaTable::facetSizeAt)};
   if (size.fails(r)) {
     worst = r / size.bound;
     v.reason = "surface Delaunay ball radius above facet_size";
   }
-  const FacetDistanceCriterion distance{bound(f, &MaterialCriteria::facet_distance)};
+  const FacetDistanceCriterion distance{bound(f, &CriteriaTable::facetDistanceAt)};
   if (distance.bound > 0) {
     const double d = FacetDistanceCriterion::distance(f);
     if (d > distance.bound && d / distance.bound > worst) {

@@ -59,8 +59,10 @@ class FacetCriteria {
   // fails for its angle alone).
   FacetVerdict judge(const FacetShape& f, bool withAngle = true) const;
 
-  // The smallest bound over the positive materials on either side (infinity: none).
+  // The smallest bound over the positive materials on either side (infinity: none): of a
+  // constant criterion, or of a size at the facet's ball centre (CriteriaTable::facetSizeAt).
   double bound(const FacetShape& f, double MaterialCriteria::*field) const;
+  double bound(const FacetShape& f, double (CriteriaTable::*sizeAt)(int, const Point3&) const) const;
 
  private:
   const CriteriaTable& table_;

@@ -57,14 +57,15 @@ double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
       if (std::find(zone.cells.begin(), zone.cells.end(), c->neighbor(i)) != zone.cells.end()) continue;
       const VH a = c->vertex((i + 1) & 3), b = c->vertex((i + 2) & 3), d = c->vertex((i + 3) & 3);
       if (dt_.is_infinite(a) || dt_.is_infinite(b) || dt_.is_infinite(d)) continue;
-      const double r =
-          std::sqrt(CGAL::squared_distance(CGAL::circumcenter(a->point(), b->point(), d->point(), zone.point), zone.point));
+      const auto centre = CGAL::circumcenter(a->point(), b->point(), d->point(), zone.point);
+      const double r = std::sqrt(CGAL::squared_distance(centre, zone.point));
+      const double cellSize = options_.criteria.cellSizeAt(c->info().label, toPoint3(centre));
       double shortest =
           std::min({CGAL::squared_distance(a->point(), b->point()), CGAL::squared_distance(b->point(), d->point()),
                     CGAL::squared_distance(d->point(), a->point())});
       for (VH w : {a, b, d}) shortest = std::min(shortest, CGAL::squared_distance(w->point(), zone.point));
       shortest = std::sqrt(shortest);
-      if ((crit.cell_size > 0 && r > crit.cell_size) ||
+      if ((cellSize > 0 && r > cellSize) ||
           (crit.cell_radius_edge_ratio > 0 && r > crit.cell_radius_edge_ratio * shortest))
         return -1;
       worst = std::min(worst, refine::minDihedralDeg(toPoint3(a->point()), toPoint3(b->point()),

@@ -146,6 +146,7 @@ void RuleSetTRefiner::intoCircumsphereMoves(CH c, double scale, std::vector<Vert
   const Point3 centre = toPoint3(CGAL::circumcenter(corners[0]->point(), corners[1]->point(), corners[2]->point(),
                                                     corners[3]->point()));
   const double radius = distance(centre, toPoint3(corners[0]->point()));
+  if (!isFinite(centre) || !std::isfinite(radius)) return;  // four coplanar corners: no sphere
   std::vector<VH> across;
   for (int i = 0; i < 4; ++i) {
     const CH n = c->neighbor(i);
@@ -343,6 +344,9 @@ bool RuleSetTRefiner::perturbSliver(CH c, std::mt19937& random, int effort, std:
   for (const VertexMove& m : screenedMoves(c, random, effort)) {
     if (tries == std::min(kPerturbMoves * effort, kPerturbMaxTries)) break;
     Point3 target = m.target;
+    // Targets must be finite before the oracle or the exact predicates see them (GMP raises
+    // SIGFPE on NaN): a flat sliver's circumcentre is at infinity.
+    if (!isFinite(target)) continue;
     int targetEntry = -1;
     if (m.vertex->info().dimension == 2) {
       const BoundaryProjection onBoundary = oracle_.projectOnBoundary(target, &targetEntry);

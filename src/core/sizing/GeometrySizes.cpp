@@ -1,0 +1,275 @@
+#include "sizing/GeometrySizes.h"
+
+// CGAL before OpenCASCADE: OpenCASCADE defines a macro Handle.
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepLProp_SLProps.hxx>
+#include <BRep_Tool.hxx>
+#include <GCPnts_AbscissaPoint.hxx>
+#include <Poly_Triangulation.hxx>
+#include <Standard_Failure.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+
+#include <cmath>
+
+#include "RunControl.h"
+#include "domain/BrepTopology.h"
+#include "features/BrepSharpEdges.h"
+
+namespace oraclemesh {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangles = std::vector<K::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+constexpr double kPi = 3.14159265358979323846;
+
+Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+// One face triangle in model coordinates, its outward unit normal and area, the face it
+// belongs to and its corners' surface parameters (when the triangulation has them).
+struct FaceTriangle {
+  Point3 corners[3];
+  gp_Pnt2d uv[3];
+  bool hasUv = false;
+  int face = -1;
+  Point3 normal;
+  double area = 0;
+};
+
+// The triangles of every face of `solid` (outward by the face's orientation); faces without a
+// triangulation add none.
+std::vector<FaceTriangle> faceTriangles(const BrepTopology& solid) {
+  std::vector<FaceTriangle> out;
+  for (int f = 0; f < solid.faceCount(); ++f) {
+    const TopoDS_Face& face = solid.face(f);
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    if (tri.IsNull()) continue;
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    for (int t = 1; t <= tri->NbTriangles(); ++t) {
+      int n[3];
+      tri->Triangle(t).Get(n[0], n[1], n[2]);
+      if (reversed) std::swap(n[1], n[2]);
+      FaceTriangle ft;
+      ft.face = f;
+      ft.hasUv = tri->HasUVNodes();
+      for (int k = 0; k < 3; ++k) {
+        ft.corners[k] = toPoint3(tri->Node(n[k]).Transformed(loc));
+        if (ft.hasUv) ft.uv[k] = tri->UVNode(n[k]);
+      }
+      const Point3 normal = cross(ft.corners[1] - ft.corners[0], ft.corners[2] - ft.corners[0]);
+      const double len = norm(normal);
+      if (!(len > 0)) continue;
+      ft.normal = (1 / len) * normal;
+      ft.area = len / 2;
+      out.push_back(ft);
+    }
+  }
+  return out;
+}
+
+Point3 centroid(const FaceTriangle& t) { return (1.0 / 3) * (t.corners[0] + t.corners[1] + t.corners[2]); }
+
+// The ball radius of triangles with N of their edges around a full circle of radius 1.
+double sizePerRadius(int segmentsPerCircle) { return 2 * std::sin(kPi / segmentsPerCircle) / std::sqrt(3.0); }
+
+// Short edges: a sharp edge gets at least two segments: the size along an edge of length L is
+// at most L / 2 (edge sizes are the size, kEdgeSizePerSize).
+void addShortEdgeSamples(const BrepTopology& solid, double sharpAngleDeg, std::vector<SizeSample>& out,
+                         const RunControl& control) {
+  const double cosSharp = std::cos(sharpAngleDeg * kPi / 180);
+  for (int e = 0; e < solid.edgeCount(); ++e) {
+    control.checkpoint();
+    const TopoDS_Edge& edge = solid.edge(e);
+    if (BRep_Tool::Degenerated(edge)) continue;
+    const std::vector<int>& faces = solid.facesOfEdge(e);
+    BRepAdaptor_Curve curve(edge);
+    const double u0 = curve.FirstParameter(), u1 = curve.LastParameter(), um = 0.5 * (u0 + u1);
+    if (faces.size() == 2) {
+      gp_Vec n0, n1;
+      if (!outwardNormalAlongEdge(edge, solid.face(faces[0]), um, n0) ||
+          !outwardNormalAlongEdge(edge, solid.face(faces[1]), um, n1) || n0.Dot(n1) > cosSharp)
+        continue;  // smooth (or undecidable): the mesh need not follow the edge
+    } else if (faces.size() == 1 && BRep_Tool::IsClosed(edge, solid.face(faces[0]))) {
+      continue;  // a seam
+    }
+    const double length = GCPnts_AbscissaPoint::Length(curve);
+    if (!(length > 0)) continue;
+    for (double u : {u0, um, u1}) out.push_back({toPoint3(curve.Value(u)), 0.5 * length, SizeReason::ShortEdge});
+  }
+}
+
+// Samples over every face triangle of one solid, close enough to each other that the graded
+// field between them stays near what they ask for: curvature (the tightest principal radius of
+// the face at the point) and thickness (from the point inwards along the triangle's normal, the
+// distance to the solid's own opposite face: a wall of thickness t asks for t /
+// sizes_per_thickness). Other inputs do not count for the thickness: where parts touch, their
+// faces lie within the CAD tolerance of each other, which is no wall (gaps between parts are
+// the self-check's, job/JoinedParts).
+class FaceSampler {
+ public:
+  // Measures the sizes each triangle asks for at its corners and centre (what the estimate
+  // and the dense sampling need), capped at `cap`.
+  FaceSampler(const BrepTopology& solid, const FinenessPreset& fineness, double diagonal, double cap,
+              const RunControl& control)
+      : solid_(solid),
+        triangles_(faceTriangles(solid)),
+        sizeOverRadius_(sizePerRadius(fineness.segments_per_circle)),
+        sizesPerThickness_(fineness.sizes_per_thickness),
+        offset_(1e-7 * diagonal) {
+    for (const FaceTriangle& t : triangles_)
+      cgalTriangles_.emplace_back(K::Point_3(t.corners[0][0], t.corners[0][1], t.corners[0][2]),
+                                  K::Point_3(t.corners[1][0], t.corners[1][1], t.corners[1][2]),
+                                  K::Point_3(t.corners[2][0], t.corners[2][1], t.corners[2][2]));
+    if (!cgalTriangles_.empty()) tree_ = std::make_unique<TriangleTree>(cgalTriangles_.begin(), cgalTriangles_.end());
+    surfaces_.resize(solid.faceCount());
+    planar_.assign(solid.faceCount(), false);
+    local_.resize(triangles_.size());
+    smallest_.size = cap;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      if (i % 1024 == 0) control.checkpoint();
+      const FaceTriangle& t = triangles_[i];
+      double local = cap;
+      SizeReason reason = SizeReason::Curvature;
+      for (int k = 0; k < 3; ++k) local = std::min(local, curvatureSize(t, {k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0}));
+      const double thickness = thicknessSize(t, i, centroid(t));
+      if (thickness < local) {
+        local = thickness;
+        reason = SizeReason::Thickness;
+      }
+      local_[i] = local;
+      // A surface mesh of ball radius s has triangles of about s^2 and half as many vertices
+      // as triangles: 1.3 s^2 of area per vertex errs on the low side.
+      surfaceVertices_ += t.area / (1.3 * local * local);
+      if (local < smallest_.size) smallest_ = {centroid(t), local, reason};
+    }
+  }
+
+  const BrepTopology& solid() const { return solid_; }
+  // The surface vertices the sizes asked for would make on this solid's faces (faces a higher
+  // input hides count too: an estimate for orders of magnitude).
+  double surfaceVertices() const { return surfaceVertices_; }
+  const SizeSample& smallest() const { return smallest_; }
+
+  // Curvature and thickness samples spaced at the sizes each triangle asks for.
+  void addSamples(std::vector<SizeSample>& out, const RunControl& control) {
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      if (i % 1024 == 0) control.checkpoint();
+      const FaceTriangle& t = triangles_[i];
+      const double local = local_[i];
+      double longest = 0;
+      for (int k = 0; k < 3; ++k) longest = std::max(longest, distance(t.corners[k], t.corners[(k + 1) % 3]));
+      const int steps = std::clamp(static_cast<int>(std::ceil(longest / (kSpacingPerSize * local))), 1, kMaxSteps);
+      for (int a = 0; a <= steps; ++a)
+        for (int b = 0; a + b <= steps; ++b) {
+          const double wa = double(a) / steps, wb = double(b) / steps;
+          const Point3 p = wa * t.corners[0] + wb * t.corners[1] + (1 - wa - wb) * t.corners[2];
+          const double curvature = curvatureSize(t, {wa, wb});
+          if (std::isfinite(curvature)) out.push_back({p, curvature, SizeReason::Curvature});
+          const double thickness = thicknessSize(t, i, p);
+          if (std::isfinite(thickness)) out.push_back({p, thickness, SizeReason::Thickness});
+        }
+    }
+  }
+
+ private:
+  // Only reached by a triangle a thousand sizes long, on a model the vertex limit allows.
+  static constexpr int kMaxSteps = 1000;
+  // Samples this many sizes apart: halfway between two, the graded field is at most
+  // grading * spacing / 2 = 0.2 of the size above what they ask for ("moderate").
+  static constexpr double kSpacingPerSize = 1.33;
+
+  // Infinity on planes and where the curvature is not defined.
+  double curvatureSize(const FaceTriangle& t, std::array<double, 2> w) {
+    if (!t.hasUv) return std::numeric_limits<double>::infinity();
+    auto& surface = surfaces_[t.face];
+    if (!surface) {
+      surface = std::make_unique<BRepAdaptor_Surface>(solid_.face(t.face), false);
+      planar_[t.face] = surface->GetType() == GeomAbs_Plane;
+    }
+    if (planar_[t.face]) return std::numeric_limits<double>::infinity();
+    const double u = w[0] * t.uv[0].X() + w[1] * t.uv[1].X() + (1 - w[0] - w[1]) * t.uv[2].X();
+    const double v = w[0] * t.uv[0].Y() + w[1] * t.uv[1].Y() + (1 - w[0] - w[1]) * t.uv[2].Y();
+    BRepLProp_SLProps props(*surface, u, v, 2, 1e-9);
+    if (!props.IsCurvatureDefined()) return std::numeric_limits<double>::infinity();
+    const double k = std::max(std::abs(props.MaxCurvature()), std::abs(props.MinCurvature()));
+    return k > 0 && std::isfinite(k) ? sizeOverRadius_ / k : std::numeric_limits<double>::infinity();
+  }
+
+  // Infinity where the ray finds no wall across. The ray leaves the solid through the wall's
+  // other side, whose outward normal points along the ray; a hit on a face at a grazing angle
+  // or facing back (a neighbouring triangle of a curved face, hit through rounding at a shared
+  // edge) measures no wall.
+  double thicknessSize(const FaceTriangle& t, size_t index, const Point3& p) const {
+    if (!tree_) return std::numeric_limits<double>::infinity();
+    const Point3 start = p - offset_ * t.normal;
+    const K::Ray_3 ray(K::Point_3(start[0], start[1], start[2]), K::Vector_3(-t.normal[0], -t.normal[1], -t.normal[2]));
+    const auto hit = tree_->first_intersection(ray);
+    if (!hit) return std::numeric_limits<double>::infinity();
+    const K::Point_3* q = boost::get<K::Point_3>(&hit->first);
+    if (!q) return std::numeric_limits<double>::infinity();  // the ray runs within a triangle
+    const size_t j = static_cast<size_t>(hit->second - cgalTriangles_.cbegin());
+    if (j == index || dot(triangles_[j].normal, t.normal) > -0.2) return std::numeric_limits<double>::infinity();
+    return (std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_) / sizesPerThickness_;
+  }
+
+  const BrepTopology& solid_;
+  std::vector<FaceTriangle> triangles_;
+  Triangles cgalTriangles_;
+  std::unique_ptr<TriangleTree> tree_;
+  std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
+  std::vector<bool> planar_;
+  double sizeOverRadius_, sizesPerThickness_, offset_;
+  std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
+  double surfaceVertices_ = 0;
+  SizeSample smallest_;
+};
+
+}  // namespace
+
+GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset& fineness, double sharpAngleDeg,
+                            double cap, double vertexLimit, const RunControl& control) {
+  GeometrySizes sizes;
+  std::vector<FaceSampler> samplers;
+  double largest = -1;
+  for (size_t e = 0; e < oracle.entries().size(); ++e) {
+    const BrepTopology* solid = oracle.entries()[e].source->brepTopology();
+    if (!solid) continue;
+    try {
+      samplers.emplace_back(*solid, fineness, oracle.diagonal(), cap, control);
+    } catch (const Standard_Failure& failure) {
+      throw Error("OpenCASCADE failed while measuring the curvature of input '" + solid->name() + "' (" +
+                  failure.GetMessageString() + "): check the solid with Part > Check geometry");
+    }
+    sizes.surface_vertices += samplers.back().surfaceVertices();
+    if (samplers.back().surfaceVertices() > largest) {
+      largest = samplers.back().surfaceVertices();
+      sizes.largest_entry = static_cast<int>(e);
+      sizes.smallest = samplers.back().smallest();
+    }
+  }
+  // Sampling as densely as such sizes ask would itself take that many points.
+  if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
+  for (FaceSampler& sampler : samplers) {
+    try {
+      sampler.addSamples(sizes.samples, control);
+      if (sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
+    } catch (const Standard_Failure& failure) {
+      throw Error("OpenCASCADE failed while measuring the curvature of input '" + sampler.solid().name() + "' (" +
+                  failure.GetMessageString() + "): check the solid with Part > Check geometry");
+    }
+  }
+  return sizes;
+}
+
+}  // namespace oraclemesh

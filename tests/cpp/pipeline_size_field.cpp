@@ -1,0 +1,131 @@
+// Sizes from the geometry (issue 16 item 1): a job that gives no size and asks for the fineness
+// "moderate" gets the sizing field, so a small round part in a large model keeps its volume and
+// its roundness, a thin wall gets layers through it, and a wall too thin for the vertex limit
+// is refused up front.
+#include <gtest/gtest.h>
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <gp_Ax2.hxx>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <set>
+
+#include "Error.h"
+#include "job/Pipeline.h"
+#include "mesh_checks.h"
+#include "occt_checks.h"
+
+namespace oraclemesh {
+namespace {
+
+using nlohmann::json;
+
+// A pin of radius 3 through a 200 mm block: the default cap (diagonal / 15, 19 mm) is six
+// times the pin's radius, so without sizes from its curvature the pin is a few tets wide.
+json pinInBlockJob() {
+  const TopoDS_Shape pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(100, 100, -10), gp_Dir(0, 0, 1)), 3, 60).Shape();
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(200, 200, 40).Shape();
+  return {{"inputs",
+           {{{"name", "pin"}, {"brep", test::brepText(pin)}, {"material", 1}},
+            {{"name", "block"}, {"brep", test::brepText(block)}, {"material", 2}}}},
+          {"features", {{"sharp_angle_deg", 30}}},
+          {"element_order", 2},  // mid nodes on the CAD: the volume is the pin's, not its facets'
+          {"criteria", {{"fineness", "moderate"}}},
+          {"seed", 0}};
+}
+
+// Distinct directions from the axis of the corner vertices on the pin's top rim (z = 50).
+int rimSegments(const TetMesh& mesh) {
+  std::set<int64_t> corners;
+  for (const auto& t : mesh.tets) corners.insert(t.begin(), t.end());
+  std::set<long> angles;
+  for (int64_t v : corners) {
+    const Point3& p = mesh.points[v];
+    const double r = std::hypot(p[0] - 100, p[1] - 100);
+    if (std::abs(p[2] - 50) < 1e-6 && std::abs(r - 3) < 1e-3)
+      angles.insert(std::lround(std::atan2(p[1] - 100, p[0] - 100) * 1e4));
+  }
+  return static_cast<int>(angles.size());
+}
+
+TEST(SizeFieldModerate, ASmallPinInALargeBlockKeepsItsVolumeAndTwelveSegmentsAround) {
+  const JobResult r = runJob(JobSpec::fromJson(pinInBlockJob(), ""), RunControl());
+  const double pinVolume = M_PI * 9 * 60;
+  const double meshed = test::volumePerMaterial(r.mesh).at(1);
+  std::cout << "[ figures  ] pin " << meshed << " vs " << pinVolume << ", rim nodes " << rimSegments(r.mesh)
+            << ", tets " << r.mesh.tets.size() << "\n";
+  EXPECT_NEAR(meshed, pinVolume, 0.005 * pinVolume);
+  EXPECT_GE(rimSegments(r.mesh), 12);
+  EXPECT_EQ(r.report.at("criteria").at("fineness"), "moderate");
+  EXPECT_GT(r.report.at("criteria").at("size_field").at("samples").at("curvature").get<int>(), 0);
+
+  // The same job without the field: the pin is what the cap gives (the test shows the field
+  // is what keeps it round).
+  json off = pinInBlockJob();
+  off["criteria"] = {{"fineness", "off"}};
+  const JobResult coarse = runJob(JobSpec::fromJson(off, ""), RunControl());
+  std::cout << "[ figures  ] without the field: rim segments " << rimSegments(coarse.mesh) << "\n";
+  EXPECT_LT(rimSegments(coarse.mesh), 12);
+  EXPECT_FALSE(coarse.report.at("criteria").contains("size_field"));
+}
+
+// 20 x 20 x 1: three sizes through the wall ("moderate"). A tetrahedron with corners on both
+// faces would span the wall in one layer.
+TEST(SizeFieldModerate, AThinPlateGetsMoreThanOneLayerThroughItsThickness) {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(20, 20, 1).Shape();
+  const json job = {{"inputs", {{{"name", "plate"}, {"brep", test::brepText(plate)}, {"material", 1}}}},
+                    {"features", {{"sharp_angle_deg", 30}}},
+                    {"criteria", {{"fineness", "moderate"}}},
+                    {"element_order", 1}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  int64_t spanning = 0;
+  for (const auto& t : r.mesh.tets) {
+    bool bottom = false, top = false;
+    for (int64_t v : t) {
+      bottom = bottom || std::abs(r.mesh.points[v][2]) < 1e-9;
+      top = top || std::abs(r.mesh.points[v][2] - 1) < 1e-9;
+    }
+    spanning += bottom && top;
+  }
+  std::cout << "[ figures  ] plate: " << r.mesh.tets.size() << " tets, " << spanning << " spanning the wall\n";
+  EXPECT_EQ(spanning, 0);
+  EXPECT_NEAR(test::volumePerMaterial(r.mesh).at(1), 400, 400 * 1e-6);
+}
+
+// 100 x 100 x 0.01: three sizes through the wall would need billions of vertices.
+TEST(SizeFieldModerate, AWallTooThinForTheVertexLimitIsRefusedUpFront) {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(100, 100, 0.01).Shape();
+  const json job = {{"inputs", {{{"name", "foil"}, {"brep", test::brepText(plate)}, {"material", 1}}}},
+                    {"criteria", {{"fineness", "moderate"}}}};
+  try {
+    runJob(JobSpec::fromJson(job, ""), RunControl());
+    FAIL() << "a 0.01 mm foil at fineness moderate was meshed";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("input 'foil'"), std::string::npos) << message;
+    EXPECT_NE(message.find("limits.max_vertices"), std::string::npos) << message;
+    EXPECT_NE(message.find("from thickness"), std::string::npos) << message;
+  }
+}
+
+TEST(SizeFieldModerate, TheFieldIsOffUnlessTheJobNamesAFinenessAndStaysUnderTheGivenSizes) {
+  json job = pinInBlockJob();
+  job["criteria"] = {{"default", {{"cell_size", 20}}}};
+  EXPECT_EQ(runJob(JobSpec::fromJson(job, ""), RunControl()).report.at("criteria").at("fineness"), "off");
+  job["criteria"]["fineness"] = "coarse";
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(r.report.at("criteria").at("size_field").at("segments_per_circle"), 8);
+  job["criteria"]["fineness"] = "medium";
+  try {
+    JobSpec::fromJson(job, "");
+    FAIL() << "an unknown fineness was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("criteria.fineness = \"medium\""), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace oraclemesh

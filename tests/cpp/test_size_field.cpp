@@ -1,0 +1,107 @@
+// The sizing field (issue 16 item 1): the graded field against a brute-force minimum, and the
+// sizes B-rep geometry asks for (curvature, short edges, wall thickness) against the
+// dimensions of hand-made solids.
+#include <gtest/gtest.h>
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <gp_Ax2.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "RunControl.h"
+#include "domain/BrepSolid.h"
+#include "domain/HierarchicalOracle.h"
+#include "sizing/GeometrySizes.h"
+#include "sizing/SizeField.h"
+
+namespace oraclemesh {
+namespace {
+
+TEST(SizeField, IsTheGradedMinimumOverItsSamplesCapped) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-50, 50), size(0.01, 30);
+  std::vector<SizeSample> samples;
+  for (int i = 0; i < 2000; ++i) samples.push_back({{coord(rng), coord(rng), coord(rng)}, size(rng)});
+  const double grading = 0.3, cap = 20, floor = 0.05;
+  Bbox box;
+  box.add(Point3{-50, -50, -50});
+  box.add(Point3{50, 50, 50});
+  const SizeField field(samples, grading, cap, floor, box);
+  for (int q = 0; q < 300; ++q) {
+    const Point3 p{coord(rng) * 1.5, coord(rng) * 1.5, coord(rng) * 1.5};
+    double expected = cap;
+    for (const SizeSample& s : samples) expected = std::min(expected, std::max(s.size, floor) + grading * distance(p, s.point));
+    ASSERT_NEAR(field.exactAt(p), expected, 1e-12 * cap) << "query " << q;
+    // The octree's answer (the exact value at the centre of a cell across which it varies
+    // by at most the tolerance), inside the box and outside it.
+    ASSERT_NEAR(field.at(p), expected, SizeField::kTolerance * expected * (1 + 1e-9)) << "query " << q;
+  }
+  EXPECT_DOUBLE_EQ(field.smallestSize(), floor);  // sizes under the floor are raised to it
+}
+
+TEST(SizeField, GrowsNoFasterThanItsGrading) {
+  const SizeField field({{{0, 0, 0}, 0.1}, {{10, 0, 0}, 2}}, 0.3, 50, 0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coord(-20, 30);
+  for (int q = 0; q < 500; ++q) {
+    const Point3 a{coord(rng), coord(rng), coord(rng)}, b{coord(rng), coord(rng), coord(rng)};
+    ASSERT_LE(std::abs(field.exactAt(a) - field.exactAt(b)), 0.3 * distance(a, b) * (1 + 1e-12));
+  }
+  EXPECT_DOUBLE_EQ(field.exactAt({0, 0, 0}), 0.1);
+  EXPECT_DOUBLE_EQ(field.exactAt({10, 0, 0}), 2);  // 0.1 + 0.3 * 10 = 3.1 from the other sample
+}
+
+std::vector<SizeSample> samplesOf(const TopoDS_Shape& shape, double sharpAngle = 30) {
+  const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(shape, "solid"), Role::Material, 1}});
+  return geometrySizes(oracle, *findFineness("moderate"), sharpAngle, 1e9, 1e18, RunControl()).samples;
+}
+
+double smallest(const std::vector<SizeSample>& samples, SizeReason reason) {
+  double s = std::numeric_limits<double>::infinity();
+  for (const SizeSample& sample : samples)
+    if (sample.reason == reason) s = std::min(s, sample.size);
+  return s;
+}
+
+double largest(const std::vector<SizeSample>& samples, SizeReason reason) {
+  double s = 0;
+  for (const SizeSample& sample : samples)
+    if (sample.reason == reason) s = std::max(s, sample.size);
+  return s;
+}
+
+// 12 segments around ("moderate"): chords of 2 R sin(15 deg), triangles of that edge have a
+// circumradius of chord / sqrt(3).
+TEST(GeometrySizes, CurvedFacesAskForTwelveSegmentsAroundTheirRadius) {
+  const double radius = 5;
+  const auto samples = samplesOf(BRepPrimAPI_MakeCylinder(gp_Ax2(), radius, 40).Shape());
+  const double expected = 2 * radius * std::sin(M_PI / 12) / std::sqrt(3.0);
+  EXPECT_NEAR(smallest(samples, SizeReason::Curvature), expected, 1e-6 * expected);
+  EXPECT_NEAR(largest(samples, SizeReason::Curvature), expected, 1e-6 * expected);  // a cylinder: one radius
+}
+
+// Two sizes... three through a wall at "moderate": a 100 x 100 x 1 plate asks for 1/3 across
+// its thickness, its 100 mm sides for no less than 1/3 of 100 (the ray across the plate).
+TEST(GeometrySizes, ThinWallsAskForThreeSizesThroughTheirThickness) {
+  const auto samples = samplesOf(BRepPrimAPI_MakeBox(100, 100, 1).Shape());
+  EXPECT_NEAR(smallest(samples, SizeReason::Thickness), 1.0 / 3, 1e-6);
+  EXPECT_NEAR(largest(samples, SizeReason::Thickness), 100.0 / 3, 1e-6);
+  // The 1 mm edges are sharp and short: at most half their length, so two edge segments.
+  EXPECT_NEAR(smallest(samples, SizeReason::ShortEdge), 0.5, 1e-9);
+  EXPECT_EQ(smallest(samples, SizeReason::Curvature), std::numeric_limits<double>::infinity());  // planes only
+}
+
+// A cylinder's seam and the smooth edges are no mesh edges: only its two rims count as edges.
+TEST(GeometrySizes, OnlySharpEdgesAskForSegments) {
+  const auto samples = samplesOf(BRepPrimAPI_MakeCylinder(gp_Ax2(), 5, 40).Shape());
+  const double rim = 2 * M_PI * 5;
+  EXPECT_NEAR(smallest(samples, SizeReason::ShortEdge), rim / 2, 1e-6 * rim);  // not the 40 mm seam
+  EXPECT_TRUE(std::isinf(smallest(samplesOf(BRepPrimAPI_MakeBox(10, 10, 1).Shape(), 0), SizeReason::ShortEdge)))
+      << "sharp edges off: no edge sizes";
+}
+
+}  // namespace
+}  // namespace oraclemesh
