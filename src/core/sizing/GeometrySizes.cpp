@@ -14,7 +14,6 @@
 #include <Poly_Triangulation.hxx>
 #include <Standard_Failure.hxx>
 #include <TopLoc_Location.hxx>
-#include <TopoDS.hxx>
 
 #include <cmath>
 
@@ -241,33 +240,30 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
                             double cap, double vertexLimit, const RunControl& control) {
   GeometrySizes sizes;
   std::vector<FaceSampler> samplers;
-  double largest = -1;
-  for (size_t e = 0; e < oracle.entries().size(); ++e) {
-    const BrepTopology* solid = oracle.entries()[e].source->brepTopology();
-    if (!solid) continue;
-    try {
-      samplers.emplace_back(*solid, fineness, oracle.diagonal(), cap, control);
-    } catch (const Standard_Failure& failure) {
-      throw Error("OpenCASCADE failed while measuring the curvature of input '" + solid->name() + "' (" +
-                  failure.GetMessageString() + "): check the solid with Part > Check geometry");
+  const BrepTopology* current = nullptr;  // the solid being measured, for the message
+  try {
+    double largest = -1;
+    for (size_t e = 0; e < oracle.entries().size(); ++e) {
+      current = oracle.entries()[e].source->brepTopology();
+      if (!current) continue;
+      samplers.emplace_back(*current, fineness, oracle.diagonal(), cap, control);
+      sizes.surface_vertices += samplers.back().surfaceVertices();
+      if (samplers.back().surfaceVertices() > largest) {
+        largest = samplers.back().surfaceVertices();
+        sizes.largest_entry = static_cast<int>(e);
+        sizes.smallest = samplers.back().smallest();
+      }
     }
-    sizes.surface_vertices += samplers.back().surfaceVertices();
-    if (samplers.back().surfaceVertices() > largest) {
-      largest = samplers.back().surfaceVertices();
-      sizes.largest_entry = static_cast<int>(e);
-      sizes.smallest = samplers.back().smallest();
-    }
-  }
-  // Sampling as densely as such sizes ask would itself take that many points.
-  if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
-  for (FaceSampler& sampler : samplers) {
-    try {
+    // Sampling as densely as such sizes ask would itself take that many points.
+    if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
+    for (FaceSampler& sampler : samplers) {
+      current = &sampler.solid();
       sampler.addSamples(sizes.samples, control);
       if (sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
-    } catch (const Standard_Failure& failure) {
-      throw Error("OpenCASCADE failed while measuring the curvature of input '" + sampler.solid().name() + "' (" +
-                  failure.GetMessageString() + "): check the solid with Part > Check geometry");
     }
+  } catch (const Standard_Failure& failure) {
+    throw Error("OpenCASCADE failed while measuring the curvature of input '" + current->name() + "' (" +
+                failure.GetMessageString() + "): check the solid with Part > Check geometry");
   }
   return sizes;
 }
