@@ -53,6 +53,26 @@ TEST(RuleSetQ, CadCurvesCrossingMidSegmentShareTheCrossing) {
   EXPECT_EQ(splitAtCrossings(graph, 1e-9).polylines.size(), 2u);
 }
 
+TEST(RuleSetQ, ChordsOfCurvesThatNeverMeetAreNotSplit) {
+  // Two coarse chords cross within the chord tolerance, but the exact curves they sample stay
+  // 0.2 apart (Kurbelwelle.stp: arcs on planes 0.2 mm apart); splitting them would put a
+  // vertex on neither curve.
+  FeatureGraph graph;
+  graph.polylines = {cadCurve({{0, 0, 0}, {10, 0, 0}}, 1), cadCurve({{5, -5, 0.1}, {5, 5, 0.1}}, 2)};
+  double askedGapOf = 0;
+  const ExactCurveGap apart = [&](const FeaturePolyline&, const FeaturePolyline&) {
+    ++askedGapOf;
+    return 0.2;
+  };
+  EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.5, 1, apart).polylines.size(), 2u);
+  EXPECT_EQ(askedGapOf, 1);  // once per pair, not per segment pair
+  // Exact curves that do meet (gap 0), or an unknown gap, keep the chord rule: both are split.
+  const ExactCurveGap meeting = [](const FeaturePolyline&, const FeaturePolyline&) { return 0.0; };
+  const ExactCurveGap unknown = [](const FeaturePolyline&, const FeaturePolyline&) { return -1.0; };
+  EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.5, 1, meeting).polylines.size(), 4u);
+  EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.5, 1, unknown).polylines.size(), 4u);
+}
+
 TEST(RuleSetQ, CurvesCrossingNearTheirEndsAreSplitNotTakenForATee) {
   // A box's top edge (y = 10) and the bottom edge (x = 8) of a box standing on it and
   // overhanging by 1: they cross 2 from one end and 1 from the other, closer than the T

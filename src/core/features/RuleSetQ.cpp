@@ -61,7 +61,7 @@ bool boxesOverlap(const Bbox& a, const Bbox& b, double margin) {
 }  // namespace
 
 FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance,
-                              double sharedEndClearance) {
+                              double sharedEndClearance, const ExactCurveGap& exactCurveGap) {
   // Split parameters per polyline: segment index -> points to insert on it.
   std::vector<std::map<size_t, std::vector<Point3>>> inserts(graph.polylines.size());
   std::vector<Bbox> boxes(graph.polylines.size());
@@ -89,6 +89,7 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
       if (!userPair && curveTolerance <= 0) continue;
       if (!boxesOverlap(boxes[i], boxes[j], reach)) continue;
       int overlapping = -1;  // whether the two CAD curves share a stretch; found when needed
+      int exactCurvesApart = -1;  // whether the exact curves never come within `tolerance`; likewise
       for (size_t a = 0; a + 1 < first.points.size(); ++a)
         for (size_t b = 0; b + 1 < second.points.size(); ++b) {
           double s, t;
@@ -116,6 +117,8 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           // they meet at every shared sample, and none of it is a crossing.
           if (overlapping == -1) overlapping = shareAStretch(first, second, curveTolerance) ? 1 : 0;
           if (overlapping == 1) continue;
+          if (exactCurvesApart == -1) exactCurvesApart = exactCurveGap && exactCurveGap(first, second) > tolerance ? 1 : 0;
+          if (exactCurvesApart == 1) continue;
           const Point3 endOfFirst = nearestEnd(first, onFirst), endOfSecond = nearestEnd(second, onSecond);
           const bool atEndOfFirst = distance(endOfFirst, onFirst) <= endClearance;
           const bool atEndOfSecond = distance(endOfSecond, onSecond) <= endClearance;

@@ -10,6 +10,7 @@
 // a junction curve leaving a sharp edge, a split at a crossing). A polyline end that no other
 // polyline touches is an ordinary end. A closed polyline (a full circle) whose two ends meet at
 // its one B-rep vertex makes that vertex a star vertex, as the thesis' definition says.
+#include <functional>
 #include <vector>
 
 #include "features/FeatureGraph.h"
@@ -32,9 +33,14 @@ namespace oraclemesh {
 //   at a small angle stay close for a while without crossing. Two CAD curves that share a
 //   stretch (a segment of one lies on the other: edges of parts in contact along the same
 //   arc) are not split against each other. curveTolerance <= 0 leaves CAD pairs alone.
+//   Chords of coarsely sampled curves can come that close where the exact curves do not meet
+//   (two arcs on parallel planes a fraction of the sampling sagitta apart): when
+//   `exactCurveGap` is given, a CAD pair whose exact curves stay more than `tolerance` apart
+//   (its value for the pair; negative = unknown) is not split either.
 // Pieces keep their fields; curves are renumbered 0, 1, ...
+using ExactCurveGap = std::function<double(const FeaturePolyline&, const FeaturePolyline&)>;
 FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance = 0,
-                              double sharedEndClearance = 0);
+                              double sharedEndClearance = 0, const ExactCurveGap& exactCurveGap = {});
 
 struct StarVertex {
   struct Incident {
