@@ -17,7 +17,7 @@ packages=(
   # FreeCAD FEM and its solver
   freecad calculix-ccx
   # peers for comparisons and benchmarks; examples/implant_in_bone/measure.py (KD-tree)
-  gmsh tetgen python3-scipy
+  gmsh tetgen python3-netgen python3-scipy
   # fuzzing the job parser and the file readers (tests/fuzz: clang's libFuzzer)
   clang libclang-rt-14-dev
   # GUI tests (workbench under a virtual display); matplotlib also draws the batch plots
