@@ -1,0 +1,245 @@
+"""Real CAD against the peers, in one run and at the same size: OracleMesh (thesis engine and
+CGAL Mesh_3 engine, sharp edges on), Gmsh 4.8 (Delaunay with its default optimiser; Debian's
+Gmsh has no Netgen optimiser), Netgen 6.2 (python3-netgen, its "moderate" defaults: what
+FreeCAD's Netgen mesher runs), TetGen with quality on Gmsh's surface triangles.
+One table row per model, size and mesher: tets, minimum dihedral angle, tets under 10 degrees,
+volume error against the CAD, wall seconds (median of --repeat runs).
+
+    PYTHONPATH=build/python /usr/bin/python3 tests/bench/real_cad.py [--only part.step,...]
+        [--sizes 25,default] [--repeat 3] [--meshers oraclemesh,oraclemesh-cgal,gmsh,...]
+
+Sizes: "25" is cell, facet and Gmsh size = bounding-box diagonal / 25 with facet distance
+diagonal / 1000 (how issue 15 was measured); "default" gives OracleMesh no size at all and
+Gmsh its curvature sizing (12 elements per circle) and Netgen its own, below the same
+diagonal / 15 cap. The
+quality figures are computed here from each mesher's tets, the same way for all. Volumes:
+the CAD's from OpenCASCADE (FreeCAD's Part), per solid; Gmsh and TetGen mesh each solid of an
+assembly on its own (overlaps counted twice), so their error is against the sum of the solids,
+OracleMesh's against the priority composition (each solid less the ones before it).
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from engine_sweep import CAD, composition_volumes, load_freecad, solids_of  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(HERE))
+BUILD = os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(ROOT, "build"))
+MODELS = ["part.step", "screw.step", "Kurbelwelle.stp", "U_Joint_2.stp", "Schenkel.stp", "presse_asm.step"]
+# Gmsh first: the others' seconds are given as a ratio to its.
+MESHERS = ["gmsh", "oraclemesh", "oraclemesh-cgal", "netgen", "tetgen"]
+
+
+def min_dihedral_per_tet(points, tets):
+    """Smallest of the six dihedral angles of each tet, in degrees."""
+    p = np.asarray(points, float)[np.asarray(tets)[:, :4]]
+    faces = [(1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1)]
+    normals = []
+    for a, b, c in faces:
+        n = np.cross(p[:, b] - p[:, a], p[:, c] - p[:, a])
+        normals.append(n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None])
+    smallest = np.full(len(p), 180.0)
+    for i in range(4):
+        for j in range(i + 1, 4):
+            cos = np.clip(-np.einsum("ij,ij->i", normals[i], normals[j]), -1, 1)
+            smallest = np.minimum(smallest, np.degrees(np.arccos(cos)))
+    return smallest
+
+
+def tet_volumes(points, tets):
+    p = np.asarray(points, float)[np.asarray(tets)[:, :4]]
+    return np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))) / 6
+
+
+def read_tets(path):
+    import meshio
+    m = meshio.read(path)
+    tets = [c.data for c in m.cells if c.type in ("tetra", "tetra10")]
+    if not tets:
+        return m.points, np.zeros((0, 4), int)
+    return m.points, np.concatenate([t[:, :4] for t in tets])
+
+
+def error_line(output):
+    """The line that says what went wrong (progress lines come after it on stderr)."""
+    lines = output.splitlines()
+    errors = [l for l in lines if "error" in l.lower()]
+    return (errors or lines or ["no output"])[-1]
+
+
+def timed(cmd, timeout, **kw):
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, **kw)
+    except subprocess.TimeoutExpired:
+        return None, time.monotonic() - t0, "no result within %d s" % timeout
+    out = (p.stdout + p.stderr).strip()
+    return p.returncode, time.monotonic() - t0, out
+
+
+# ------------------------------------------------------------------ the meshers
+def oraclemesh(path, size, diagonal, tmp, timeout, engine):
+    solids = solids_of(path)
+    entry = {"name": os.path.splitext(os.path.basename(path))[0], "file": path}
+    if len(solids) > 1:
+        entry["materials"] = list(range(1, len(solids) + 1))
+    else:
+        entry["material"] = 1
+    job = {"inputs": [entry], "engine": engine, "features": {"sharp_angle_deg": 30}, "element_order": 1,
+           "limits": {"time_limit": timeout}, "output": {"files": [os.path.join(tmp, "om.vtu")],
+                                                         "report": os.path.join(tmp, "om.json")}}
+    if size is not None:
+        job["criteria"] = {"default": {"cell_size": size, "facet_size": size, "facet_distance": diagonal / 1000}}
+    job_path = os.path.join(tmp, "job.json")
+    with open(job_path, "w") as f:
+        json.dump(job, f)
+    rc, seconds, out = timed([os.path.join(BUILD, "oraclemesh"), job_path], timeout + 60)
+    if rc != 0:
+        return {"error": "exit %s: %s" % (rc, error_line(out)), "seconds": seconds}
+    points, tets = read_tets(os.path.join(tmp, "om.vtu"))
+    with open(os.path.join(tmp, "om.json")) as f:
+        report = json.load(f)
+    mesh_volume = sum(report["volume_per_material"].values())
+    return {"points": points, "tets": tets, "seconds": seconds, "mesh_volume": mesh_volume, "composition": True}
+
+
+def gmsh_args(size, diagonal):
+    if size is None:  # curvature-sized below the same cap as OracleMesh's default
+        return ["-clmax", str(diagonal / 15), "-setnumber", "Mesh.MeshSizeFromCurvature", "12"]
+    return ["-clmax", str(size)]
+
+
+def gmsh(path, size, diagonal, tmp, timeout):
+    out_path = os.path.join(tmp, "gmsh.msh")
+    cmd = ["gmsh", path, "-3", "-algo", "del3d", "-format", "msh22", "-o", out_path, "-nt", "1"] + gmsh_args(size, diagonal)
+    rc, seconds, out = timed(cmd, timeout)
+    if rc != 0 or not os.path.exists(out_path):
+        return {"error": "gmsh: " + error_line(out), "seconds": seconds}
+    points, tets = read_tets(out_path)
+    if len(tets) == 0:
+        return {"error": "gmsh: no tetrahedra", "seconds": seconds}
+    return {"points": points, "tets": tets, "seconds": seconds, "composition": False}
+
+
+def netgen_child(path, maxh, out_path):
+    """Runs in a child process (Netgen has no time limit of its own)."""
+    from netgen.NgOCC import LoadOCCGeometry
+    mesh = LoadOCCGeometry(path).GenerateMesh(maxh=maxh)
+    points = np.array([p.p for p in mesh.Points()])
+    tets = np.array([[v.nr for v in e.vertices] for e in mesh.Elements3D()], dtype=np.int64) - 1
+    np.savez(out_path, points=points, tets=tets)
+
+
+def netgen(path, size, diagonal, tmp, timeout):
+    out_path = os.path.join(tmp, "netgen.npz")
+    maxh = size if size is not None else diagonal / 15
+    rc, seconds, out = timed([sys.executable, os.path.abspath(__file__), "--netgen-child", path, str(maxh), out_path],
+                             timeout)
+    if rc != 0 or not os.path.exists(out_path):
+        return {"error": "netgen: " + error_line(out), "seconds": seconds}
+    data = np.load(out_path)
+    if len(data["tets"]) == 0:
+        return {"error": "netgen: no tetrahedra", "seconds": seconds}
+    return {"points": data["points"], "tets": data["tets"], "seconds": seconds, "composition": False}
+
+
+def tetgen(path, size, diagonal, tmp, timeout):
+    """TetGen -pq on Gmsh's surface triangles: the surface time counts too."""
+    surface = os.path.join(tmp, "surface.stl")
+    rc, t_surface, out = timed(["gmsh", path, "-2", "-format", "stl", "-o", surface, "-nt", "1"] + gmsh_args(size, diagonal),
+                               timeout)
+    if rc != 0 or not os.path.exists(surface):
+        return {"error": "gmsh surface: " + error_line(out), "seconds": t_surface}
+    rc, t_volume, out = timed(["tetgen", "-pq1.414Q", surface], timeout)
+    seconds = t_surface + t_volume
+    node, ele = surface[:-4] + ".1.node", surface[:-4] + ".1.ele"
+    if rc != 0 or not os.path.exists(ele):
+        return {"error": "tetgen: " + error_line(out), "seconds": seconds}
+    nodes = np.loadtxt(node, skiprows=1, comments="#")
+    corners = np.loadtxt(ele, skiprows=1, comments="#", dtype=np.int64)[:, 1:5]
+    first_index = int(nodes[0, 0])  # TetGen numbers from 0 or 1, as its input did
+    return {"points": nodes[:, 1:4], "tets": corners - first_index, "seconds": seconds, "composition": False}
+
+
+# ------------------------------------------------------------------ one row
+def measure(mesher, path, size, diagonal, timeout):
+    with tempfile.TemporaryDirectory(prefix="oraclemesh-realcad-") as tmp:
+        if mesher == "oraclemesh":
+            return oraclemesh(path, size, diagonal, tmp, timeout, "thesis")
+        if mesher == "oraclemesh-cgal":
+            return oraclemesh(path, size, diagonal, tmp, timeout, "cgal")
+        if mesher == "gmsh":
+            return gmsh(path, size, diagonal, tmp, timeout)
+        if mesher == "netgen":
+            return netgen(path, size, diagonal, tmp, timeout)
+        return tetgen(path, size, diagonal, tmp, timeout)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--netgen-child", nargs=3)
+    ap.add_argument("--only", default="")
+    ap.add_argument("--sizes", default="25,default")
+    ap.add_argument("--meshers", default=",".join(MESHERS))
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--timeout", type=float, default=900)
+    ap.add_argument("--json", default="", help="also append every row as a JSON line to this file")
+    args = ap.parse_args()
+    if args.netgen_child:
+        return netgen_child(args.netgen_child[0], float(args.netgen_child[1]), args.netgen_child[2])
+    load_freecad()
+    only = [s for s in args.only.split(",") if s]
+    print("| model | size | mesher | tets | min dihedral | tets < 10° | volume error vs CAD | seconds (median) | x Gmsh |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|")
+    for model in MODELS:
+        if only and model not in only:
+            continue
+        path = os.path.join(CAD, model)
+        solids = solids_of(path)
+        import FreeCAD
+        box = FreeCAD.BoundBox()
+        for s in solids:
+            box.add(s.BoundBox)
+        diagonal = box.DiagonalLength
+        sum_of_solids = sum(s.Volume for s in solids)
+        composed = sum(composition_volumes(solids, ["material"] * len(solids)).values())
+        for size_name in args.sizes.split(","):
+            size = None if size_name == "default" else diagonal / float(size_name)
+            gmsh_seconds = None
+            for mesher in args.meshers.split(","):
+                runs = [measure(mesher, path, size, diagonal, args.timeout) for _ in range(args.repeat)]
+                seconds = statistics.median(r["seconds"] for r in runs)
+                r = runs[-1]
+                label = "diag/%s" % size_name if size is not None else "default"
+                if "error" in r:
+                    print("| %s | %s | %s | error: %s | | | | %.1f | |" % (model, label, mesher, r["error"][:160], seconds),
+                          flush=True)
+                    continue
+                if mesher == "gmsh":
+                    gmsh_seconds = seconds
+                angles = min_dihedral_per_tet(r["points"], r["tets"])
+                volume = r.get("mesh_volume") or float(tet_volumes(r["points"], r["tets"]).sum())
+                reference = composed if r["composition"] else sum_of_solids
+                error = 100 * (volume - reference) / reference
+                ratio = "%.2f" % (seconds / gmsh_seconds) if gmsh_seconds else ""
+                print("| %s | %s | %s | %d | %.3g | %d | %+.2f %% | %.1f | %s |" % (
+                    model, label, mesher, len(r["tets"]), angles.min(), int((angles < 10).sum()), error, seconds, ratio),
+                    flush=True)
+                if args.json:
+                    with open(args.json, "a") as f:
+                        f.write(json.dumps({"model": model, "size": label, "mesher": mesher, "tets": len(r["tets"]),
+                                            "min_dihedral": float(angles.min()), "under10": int((angles < 10).sum()),
+                                            "volume_error_pct": error, "seconds": seconds}) + "\n")
+
+
+if __name__ == "__main__":
+    main()
