@@ -26,6 +26,8 @@ SLACK = 15      # process starts, the mesher's own checkpoint, a loaded machine
 
 CRASHED = "OpenCASCADE crashed reading"
 HUNG = "OpenCASCADE did not finish reading"
+TOLERANCE_5MM = ["box_edge_curve_misspelt.step", "edge 1 of 11, from (0, 0, 0) to (0, 0, 5), has a tolerance of 5.00005",
+                 "the file is damaged", "Part > Check geometry"]
 EXPECTED = {
     # random byte changes of screw.step: segfaults in the STEP reader after "Unresolved Reference"
     "step_reader_crash.step": [CRASHED, "step_reader_crash.step", "Part > Check geometry"],
@@ -43,6 +45,12 @@ EXPECTED = {
     "inf_line.iges": ["not finite (1.D999)", "inf_line.iges", "IGES entity DE 11"],
     # the first half of that box's IGES file
     "truncated_box.iges": ["holds no shape OpenCASCADE can transfer", "truncated_box.iges"],
+    # box.step with one plane's CARTESIAN_POINT and one EDGE_CURVE misspelt: OpenCASCADE widened
+    # three edges' tolerance to 5 mm; the thesis engine ended in an "internal error" (feature
+    # edges no tet edges), Mesh_3 in an endless edge protection. Both engines, the finding's sizes.
+    "box_edge_curve_misspelt.step": TOLERANCE_5MM,
+    "box_edge_curve_misspelt_thesis.json": TOLERANCE_5MM,
+    "box_edge_curve_misspelt_cgal.json": TOLERANCE_5MM,
     # a box at x = 1e20
     "far_box.brep": ["from the origin", "far_box.brep", "move the model near the origin"],
     # a sphere of radius 5 at x = 1e20, both engines: used to segfault in insertInitialPoints

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -127,6 +128,30 @@ bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, do
   return true;
 }
 
+namespace {
+
+// The corners merged within their tolerance must leave the polyline a path: no segment of
+// length zero, and an edge that is not closed does not come back to its start. A vertex
+// tolerance as long as its edge (a damaged file; ToleranceCheck refuses the widest) would
+// otherwise give a polyline that runs out and back, which neither engine can keep.
+void requireDistinctPoints(const std::vector<Point3>& points, bool closed, const BrepTopology& solid, int edge,
+                           double tolerance) {
+  bool collapsed = !closed && points.front() == points.back();
+  for (size_t i = 0; i + 1 < points.size() && !collapsed; ++i) collapsed = points[i] == points[i + 1];
+  if (!collapsed) return;
+  BRepAdaptor_Curve curve(solid.edge(edge));
+  const Point3 a = toPoint3(curve.Value(curve.FirstParameter())), b = toPoint3(curve.Value(curve.LastParameter()));
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "': sharp edge %d (from (%g, %g, %g) to (%g, %g, %g)) has vertices whose tolerance (%g) makes two "
+                "of its points one; the file is damaged there: check it with Part > Check geometry, repair it or "
+                "export it again from the CAD tool",
+                edge + 1, a[0], a[1], a[2], b[0], b[1], b[2], tolerance);
+  throw InputError("input '" + solid.name() + text);
+}
+
+}  // namespace
+
 FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength, double sagittaTolerance,
                                const std::function<double(const Point3&)>& localSegmentLength) {
@@ -219,6 +244,8 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
       polyline.points.push_back(corner[vertexMap.FindIndex(firstVertex) - 1]);
       for (size_t i = 1; i + 1 < params.size(); ++i) polyline.points.push_back(toPoint3(curve.Value(params[i])));
       polyline.points.push_back(corner[vertexMap.FindIndex(lastVertex) - 1]);
+      requireDistinctPoints(polyline.points, closed, solid, e, std::max(BRep_Tool::Tolerance(firstVertex),
+                                                                         BRep_Tool::Tolerance(lastVertex)));
       polyline.curve = sourceIndex * kCurvesPerSource + e;
       polyline.source = sourceIndex;
       polyline.edge = e;
