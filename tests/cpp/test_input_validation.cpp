@@ -7,6 +7,7 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -254,6 +255,29 @@ TEST(InputValidation, ToleranceWidenedToTheModelsScaleIsRefusedNamingTheEdge) {
       << message;
   // Just under 1 % of the diagonal passes (the shared models reach 0.015 %).
   EXPECT_NO_THROW(BrepSolid(boxWithWideEdge(1, 0.13), "box"));
+}
+
+TEST(InputValidation, EdgeWhoseCurveEndsFarFromItsVertexIsRefusedNamingIt) {
+  // tests/data/bad/cad/brep_classifier_hang.brep: one changed byte in a BREP moved an edge's
+  // range, and OpenCASCADE's exact classifier spent seconds on every point near it.
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape();
+  TopTools_IndexedMapOfShape vertices;
+  TopExp::MapShapes(box, TopAbs_VERTEX, vertices);
+  BRep_Builder builder;
+  const gp_Pnt corner = BRep_Tool::Pnt(TopoDS::Vertex(vertices(1)));
+  builder.UpdateVertex(TopoDS::Vertex(vertices(1)), gp_Pnt(corner.X(), corner.Y(), corner.Z() + 0.5), 1e-7);
+  const std::string message = inputErrorOf([&] { BrepSolid(box, "box"); });
+  ASSERT_EQ(corner.Distance(gp_Pnt(0, 0, 5)), 0);  // the first vertex TopExp::MapShapes finds
+  EXPECT_TRUE(contains(message, "input 'box' has edge ") && contains(message, "whose curve ends at (0, 0, 5)") &&
+              contains(message, "0.5 model units from its vertex at (0, 0, 5.5) (tolerance 1e-07)") &&
+              contains(message, "Part > Check geometry"))
+      << message;
+  // Within twice the tolerance (OpenCASCADE keeps it within once) passes.
+  const TopoDS_Shape sound = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape();
+  TopTools_IndexedMapOfShape soundVertices;
+  TopExp::MapShapes(sound, TopAbs_VERTEX, soundVertices);
+  builder.UpdateVertex(TopoDS::Vertex(soundVertices(1)), gp_Pnt(0, 0, 5 + 1e-3), 1e-3);
+  EXPECT_NO_THROW(BrepSolid(sound, "box"));
 }
 
 TEST(InputValidation, SharpEdgeWhoseCornersMergeWithinTheirToleranceIsRefused) {

@@ -33,6 +33,13 @@ EXPECTED = {
     "step_reader_crash.step": [CRASHED, "step_reader_crash.step", "Part > Check geometry"],
     # a truncated BREP: BRep_CurveOnSurface::Update loops while reading
     "brep_reader_loop.brep": [HUNG, "brep_reader_loop.brep"],
+    # part.step's BREP export with one space made a digit: edge 15's curve range and location
+    # changed, its curve ends 11.5 mm from its vertex; OpenCASCADE's exact classifier
+    # (BRepClass3d_SClassifier, Extrema_ExtCC) then took seconds a point: refine at 0 % after
+    # 120 s (exit 3, "coarsen the sizes or raise limits.time_limit"). Refused while reading now.
+    "brep_classifier_hang.brep": ["brep_classifier_hang.brep", "edge 15 of 70 whose curve ends at",
+                                  "11.5481 model units from its vertex", "the file is damaged there",
+                                  "Part > Check geometry"],
     # a mutated BREP: BRepMesh_Delaun loops while tessellating
     "brep_tessellation_hang.brep": [HUNG, "brep_tessellation_hang.brep"],
     # NaN in a vertex and in a surface: used to reach GMP through CGAL (SIGFPE)

@@ -23,6 +23,7 @@
 #include <numeric>
 
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
@@ -161,6 +162,7 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
   if (!(sharpAngleDeg >= 0 && sharpAngleDeg < 180))
     throw InputError("features.sharp_angle_deg must be between 0 and 180 degrees, got " + std::to_string(sharpAngleDeg));
   const double diagonal = solid.bbox().diagonal();
+  const OpenCascadeWork working(solid.name());
   const double cosThreshold = std::cos(sharpAngleDeg * kPi / 180);
   if (!(sagittaTolerance > 0)) sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
 

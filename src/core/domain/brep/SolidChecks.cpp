@@ -231,7 +231,7 @@ SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
     if (!(std::abs(v) > 0))
       throw InputError(what + " has a solid with zero volume: select a solid that encloses a volume");
   }
-  requireTolerancesWithinModel(pieces.solids, what);
+  requireConsistentTolerances(pieces.solids, what);
   return pieces;
 }
 

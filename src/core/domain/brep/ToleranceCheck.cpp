@@ -1,5 +1,6 @@
 #include "domain/brep/ToleranceCheck.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRep_Tool.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -8,6 +9,7 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Vertex.hxx>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "Error.h"
@@ -56,23 +58,53 @@ std::string describe(const Widest& w) {
   return "face" + numbered;
 }
 
+// The first edge of `solid` whose curve ends farther from its vertex than the tolerances allow.
+void requireEdgesEndAtTheirVertices(const TopoDS_Solid& solid, double diagonal, const std::string& where) {
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(solid, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    const TopoDS_Edge edge = TopoDS::Edge(edges(i).Oriented(TopAbs_FORWARD));
+    if (BRep_Tool::Degenerated(edge) || !BRep_Tool::IsGeometric(edge)) continue;
+    TopoDS_Vertex first, last;
+    TopExp::Vertices(edge, first, last);
+    if (first.IsNull() || last.IsNull()) continue;
+    const BRepAdaptor_Curve curve(edge);
+    for (const auto& [vertex, parameter] : {std::make_pair(first, curve.FirstParameter()),
+                                            std::make_pair(last, curve.LastParameter())}) {
+      const gp_Pnt end = curve.Value(parameter), at = BRep_Tool::Pnt(vertex);
+      const double tolerance = std::max(BRep_Tool::Tolerance(vertex), BRep_Tool::Tolerance(edge));
+      const double gap = end.Distance(at);
+      if (gap <= std::max(2 * tolerance, kLargestRelativeEndGap * diagonal)) continue;
+      char text[200];
+      std::snprintf(text, sizeof text, " whose curve ends at %s, %g model units from its vertex at %s (tolerance %g)",
+                    pointText(end).c_str(), gap, pointText(at).c_str(), tolerance);
+      throw InputError(where + "edge " + std::to_string(i) + " of " + std::to_string(edges.Extent()) + text +
+                       ": the file is damaged there (a number of the edge's curve or range changed); check it with "
+                       "Part > Check geometry, repair it or export it again from the CAD tool");
+    }
+  }
+}
+
 }  // namespace
 
-void requireTolerancesWithinModel(const std::vector<TopoDS_Solid>& solids, const std::string& what) {
+void requireConsistentTolerances(const std::vector<TopoDS_Solid>& solids, const std::string& what) {
   for (size_t k = 0; k < solids.size(); ++k) {
     const double diagonal = boxOf(solids[k]).diagonal();
+    const std::string solid =
+        solids.size() > 1 ? "solid " + std::to_string(k + 1) + " of " + std::to_string(solids.size()) + ", " : "";
     Widest widest;
     // Edges first: a vertex is at least as wide as its edges, and the edge is what the user
     // finds and repairs.
     widen(widest, solids[k], TopAbs_EDGE);
     if (!(widest.tolerance > kLargestRelativeTolerance * diagonal)) widen(widest, solids[k], TopAbs_VERTEX);
     if (!(widest.tolerance > kLargestRelativeTolerance * diagonal)) widen(widest, solids[k], TopAbs_FACE);
-    if (!(widest.tolerance > kLargestRelativeTolerance * diagonal)) continue;
+    if (!(widest.tolerance > kLargestRelativeTolerance * diagonal)) {
+      requireEdgesEndAtTheirVertices(solids[k], diagonal, what + " has " + (solid.empty() ? "" : "in " + solid));
+      continue;
+    }
     char size[160];
     std::snprintf(size, sizeof size, " has a tolerance of %g model units, %.3g %% of the solid's size (%g across)",
                   widest.tolerance, 100 * widest.tolerance / diagonal, diagonal);
-    const std::string solid =
-        solids.size() > 1 ? "solid " + std::to_string(k + 1) + " of " + std::to_string(solids.size()) + ", " : "";
     throw InputError(what + ": " + solid + describe(widest) + size +
                      ": OpenCASCADE widened it to bridge a gap the file leaves between an edge and its faces "
                      "(a face whose surface does not carry its edges), so the file is damaged there and a mesh "

@@ -1,9 +1,11 @@
 #pragma once
-// Tolerances within the model's scale (internal to domain/brep). OpenCASCADE widens an edge's
-// and its vertices' tolerances until the edge "lies on" its faces; on a damaged file (a face
-// whose surface lost its placement) that is millimetres, and every later step believes it:
-// corners of one edge become one point (a sharp-edge polyline that runs out and back), the
-// classifier takes the wide band as surface. Such a shape is refused before meshing.
+// Tolerances within the model's scale, and kept (internal to domain/brep). OpenCASCADE widens
+// an edge's and its vertices' tolerances until the edge "lies on" its faces; on a damaged file
+// (a face whose surface lost its placement) that is millimetres, and every later step
+// believes it: corners of one edge become one point (a sharp-edge polyline that runs out and
+// back), the classifier takes the wide band as surface. A BREP file is read as written, so a
+// damaged number leaves an edge whose curve ends far from its vertices, where OpenCASCADE's
+// exact classifier then spends seconds per point. Such shapes are refused before meshing.
 #include <TopoDS_Solid.hxx>
 
 #include <string>
@@ -16,9 +18,15 @@ namespace oraclemesh {
 // 4.5 % (part.step with 3 bytes changed) and 36 % (a box whose plane lost its point).
 constexpr double kLargestRelativeTolerance = 0.01;
 
+// A curve end may lie this far beyond its vertex's tolerance sphere before the edge counts as
+// broken: twice the tolerance, and at least this fraction of the solid's diagonal (the shared
+// models: gaps up to the tolerance, at most 6e-6 of the diagonal; the damaged BREP seen, 5 %).
+constexpr double kLargestRelativeEndGap = 1e-4;
+
 // InputError starting with `what` naming the edge (or vertex, face) of the largest tolerance
-// over kLargestRelativeTolerance of its solid's diagonal: which solid, which edge, where, how
-// wide, and the fix.
-void requireTolerancesWithinModel(const std::vector<TopoDS_Solid>& solids, const std::string& what);
+// over kLargestRelativeTolerance of its solid's diagonal, or the first edge whose curve ends
+// farther from its vertex than the tolerance allows: which solid, which edge, where, how far,
+// and the fix.
+void requireConsistentTolerances(const std::vector<TopoDS_Solid>& solids, const std::string& what);
 
 }  // namespace oraclemesh
