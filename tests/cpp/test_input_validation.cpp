@@ -293,7 +293,7 @@ TEST(InputValidation, SharpEdgeWhoseCornersMergeWithinTheirToleranceIsRefused) {
   builder.UpdateVertex(first, 5.5);
   builder.UpdateVertex(last, 5.5);
   const std::string message = inputErrorOf([&] { extractSharpEdges(*solid, 0, 30, 2); });
-  EXPECT_TRUE(contains(message, "input 'box': sharp edge") && contains(message, "makes two of its points one") &&
+  EXPECT_TRUE(contains(message, "input 'box': sharp edge") && contains(message, "collapses: corners closer than 5.5") &&
               contains(message, "(0, 0, 0) to (0, 0, 5)") && contains(message, "Part > Check geometry"))
       << message;
   const auto sound = std::make_shared<BrepSolid>(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape(), "box");

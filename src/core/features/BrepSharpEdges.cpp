@@ -133,21 +133,23 @@ namespace {
 
 // The corners merged within their tolerance must leave the polyline a path: no segment of
 // length zero, and an edge that is not closed does not come back to its start. A vertex
-// tolerance as long as its edge (a damaged file; ToleranceCheck refuses the widest) would
-// otherwise give a polyline that runs out and back, which neither engine can keep.
+// tolerance as long as its edge (a damaged file; ToleranceCheck refuses the widest), or a
+// damaged coordinate far out that makes 1e-9 of the solid's size longer than its edges,
+// would otherwise give a polyline that runs out and back, which neither engine can keep.
 void requireDistinctPoints(const std::vector<Point3>& points, bool closed, const BrepTopology& solid, int edge,
-                           double tolerance) {
+                           double mergeDistance, double diagonal) {
   bool collapsed = !closed && points.front() == points.back();
   for (size_t i = 0; i + 1 < points.size() && !collapsed; ++i) collapsed = points[i] == points[i + 1];
   if (!collapsed) return;
   BRepAdaptor_Curve curve(solid.edge(edge));
   const Point3 a = toPoint3(curve.Value(curve.FirstParameter())), b = toPoint3(curve.Value(curve.LastParameter()));
-  char text[320];
+  char text[480];
   std::snprintf(text, sizeof text,
-                "': sharp edge %d (from (%g, %g, %g) to (%g, %g, %g)) has vertices whose tolerance (%g) makes two "
-                "of its points one; the file is damaged there: check it with Part > Check geometry, repair it or "
-                "export it again from the CAD tool",
-                edge + 1, a[0], a[1], a[2], b[0], b[1], b[2], tolerance);
+                "': sharp edge %d (from (%g, %g, %g) to (%g, %g, %g)) collapses: corners closer than %g (the larger "
+                "of their tolerance and 1e-9 of the solid's size, %g) are one point, which makes two of its points "
+                "one; the file is damaged there (a tolerance or a coordinate): check it with Part > Check geometry, "
+                "repair it or export it again from the CAD tool",
+                edge + 1, a[0], a[1], a[2], b[0], b[1], b[2], mergeDistance, diagonal);
   throw InputError("input '" + solid.name() + text);
 }
 
@@ -246,8 +248,10 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
       polyline.points.push_back(corner[vertexMap.FindIndex(firstVertex) - 1]);
       for (size_t i = 1; i + 1 < params.size(); ++i) polyline.points.push_back(toPoint3(curve.Value(params[i])));
       polyline.points.push_back(corner[vertexMap.FindIndex(lastVertex) - 1]);
-      requireDistinctPoints(polyline.points, closed, solid, e, std::max(BRep_Tool::Tolerance(firstVertex),
-                                                                         BRep_Tool::Tolerance(lastVertex)));
+      requireDistinctPoints(polyline.points, closed, solid, e,
+                            std::max(cornerTolerance[vertexMap.FindIndex(firstVertex) - 1],
+                                     cornerTolerance[vertexMap.FindIndex(lastVertex) - 1]),
+                            diagonal);
       polyline.curve = sourceIndex * kCurvesPerSource + e;
       polyline.source = sourceIndex;
       polyline.edge = e;
