@@ -2,11 +2,14 @@
 // The CLI's last line of defence for limits.time_limit. The core checks the limit between its
 // steps, but one call into OpenCASCADE on a damaged shape (sampling an edge, classifying a
 // point) can loop for ever without reaching a checkpoint. A CLI process can always stop, so
-// a watchdog ends it a grace period after the limit with exit code 3 and a message naming the
-// job and the phase it was in. (oraclemesh.run cannot do that to its interpreter;
-// run_isolated and the batch workers kill their child instead.)
+// a watchdog ends it a grace period after the limit. Stuck inside OpenCASCADE on an input
+// (job/OpenCascadeStall), it is that input's geometry, as when reading it hangs: exit
+// code 2 and a message naming the input, its file and the fix. Stuck anywhere else, it is
+// the job: exit code 3 naming the job and its phase. (oraclemesh.run cannot do that to its
+// interpreter; run_isolated's worker does the same, and the batch workers kill their child.)
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <condition_variable>
 #include <cstdlib>
 #include <iostream>
@@ -14,14 +17,21 @@
 #include <string>
 #include <thread>
 
+
 namespace oraclemesh::cli {
 
 class HardDeadline {
  public:
   // Grace: a tenth of the limit, at least 2 s and at most 30 s, for the core's own checkpoint
   // to stop it first and write its partial mesh.
-  HardDeadline(std::string jobPath, double timeLimitSeconds)
-      : jobPath_(std::move(jobPath)), limit_(timeLimitSeconds), grace_(std::min(30.0, std::max(2.0, 0.1 * limit_))) {
+  // stalledInput(limit, grace, phase): the message when the job is stuck in OpenCASCADE on one of its
+  // inputs (job/OpenCascadeStall.h), else empty.
+  HardDeadline(std::string jobPath, double timeLimitSeconds,
+               std::function<std::string(double limit, double grace, const std::string& phase)> stalledInput)
+      : jobPath_(std::move(jobPath)),
+        limit_(timeLimitSeconds),
+        grace_(std::min(30.0, std::max(2.0, 0.1 * limit_))),
+        stalledInput_(std::move(stalledInput)) {
     watchdog_ = std::thread([this] { watch(); });
   }
   ~HardDeadline() {
@@ -45,6 +55,11 @@ class HardDeadline {
     std::unique_lock<std::mutex> lock(mutex_);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_ + grace_);
     if (wake_.wait_until(lock, deadline, [this] { return finished_; })) return;
+    const std::string stalled = stalledInput_(limit_, grace_, phase_);
+    if (!stalled.empty()) {
+      std::cerr << "\noraclemesh: error: " << stalled << "\n" << std::flush;
+      std::_Exit(2);  // as a file OpenCASCADE cannot finish reading: the input's fault
+    }
     std::cerr << "\noraclemesh: stopped: the job '" << jobPath_ << "' did not end within limits.time_limit = " << limit_
               << " s (and " << grace_ << " s of grace) and was stuck in phase '" << phase_
               << "': an input may be damaged (check it with Part > Check geometry or re-export it), or the sizes "
@@ -55,6 +70,7 @@ class HardDeadline {
 
   std::string jobPath_;
   double limit_, grace_;
+  std::function<std::string(double limit, double grace, const std::string& phase)> stalledInput_;
   std::string phase_ = "load";
   bool finished_ = false;
   std::mutex mutex_;

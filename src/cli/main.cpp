@@ -1,10 +1,11 @@
 // `oraclemesh JOB.json`: runs a job file, progress on stderr, a one-screen summary on stdout.
 // `oraclemesh batch ...`: many jobs on a Dask cluster (BatchCommand.h).
-// Exit codes: 0 done, 2 bad job or input, 3 limit reached (time, vertices, memory) or cancelled,
-// 1 anything else.
+// Exit codes: 0 done, 2 bad job or input (also OpenCASCADE stuck on an input's geometry past
+// the time limit), 3 limit reached (time, vertices, memory) or cancelled, 1 anything else.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <new>
 #include <sstream>
 #include <thread>
@@ -12,6 +13,8 @@
 #include "BatchCommand.h"
 #include "HardDeadline.h"
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
+#include "job/OpenCascadeStall.h"
 #include "job/Pipeline.h"
 
 namespace {
@@ -59,17 +62,29 @@ int main(int argc, char** argv) {
     text << in.rdbuf();
     const std::string base = std::filesystem::absolute(jobPath).parent_path().string();
     const oraclemesh::JobSpec job = oraclemesh::JobSpec::fromJsonText(text.str(), base);
-    oraclemesh::cli::HardDeadline deadline(jobPath, job.time_limit);
+    oraclemesh::OpenCascadeWork::watchThisThread();
+    oraclemesh::cli::HardDeadline deadline(jobPath, job.time_limit,
+                                           [&job](double limit, double grace, const std::string& phase) {
+                                             return oraclemesh::openCascadeStallMessage(job, limit, grace, phase);
+                                           });
     // Test hook: ORACLEMESH_CLI_STALL=<phase> blocks the meshing thread when that phase starts,
-    // as a call stuck inside OpenCASCADE would, so that tests can see the deadline end it.
-    const char* stall = std::getenv("ORACLEMESH_CLI_STALL");
+    // as a call stuck inside the core would, so that tests can see the deadline end it;
+    // ORACLEMESH_CLI_STALL=opencascade:<phase> blocks it as inside OpenCASCADE on the first input.
+    const char* stallVariable = std::getenv("ORACLEMESH_CLI_STALL");
+    std::string stall = stallVariable ? stallVariable : "";
+    const bool stallInOpenCascade = stall.rfind("opencascade:", 0) == 0;
+    if (stallInOpenCascade) stall = stall.substr(std::string("opencascade:").size());
     std::string lastPhase;
     oraclemesh::RunControl control(
         [&](const std::string& phase, double fraction) {
           if (phase != lastPhase) {
             std::cerr << "\n";
             deadline.enterPhase(phase);
-            if (stall && phase == stall) std::this_thread::sleep_for(std::chrono::hours(24));
+            if (!stall.empty() && phase == stall) {
+              std::unique_ptr<oraclemesh::OpenCascadeWork> working;
+              if (stallInOpenCascade) working = std::make_unique<oraclemesh::OpenCascadeWork>(job.inputs.front().name);
+              std::this_thread::sleep_for(std::chrono::hours(24));
+            }
           }
           lastPhase = phase;
           std::cerr << "\r[oraclemesh] " << phase << " " << static_cast<int>(100 * fraction) << "%" << std::flush;

@@ -5,7 +5,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
+#include <thread>
+
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
+#include "job/OpenCascadeStall.h"
 #include "job/Pipeline.h"
 
 namespace py = pybind11;
@@ -137,4 +142,22 @@ PYBIND11_MODULE(_core, m) {
   m.def("run", &run, py::arg("job_json"), py::arg("base_directory") = "", py::arg("progress") = py::none(),
         "Run a job given as JSON text; returns a dict of numpy arrays and the report as JSON text.");
   m.def("version", &version);
+  // For oraclemesh.worker, the child of run_isolated, which has a hard deadline of its own.
+  m.def("watch_opencascade_in_this_thread", &OpenCascadeWork::watchThisThread,
+        "Makes the calling thread (the one that will call run) the one opencascade_stall reports on.");
+  m.def(
+      "opencascade_stall",
+      [](const std::string& jobJson, const std::string& baseDirectory, double timeLimit, double grace,
+         const std::string& phase) {
+        return openCascadeStallMessage(JobSpec::fromJsonText(jobJson, baseDirectory), timeLimit, grace, phase);
+      },
+      py::arg("job_json"), py::arg("base_directory"), py::arg("time_limit"), py::arg("grace"), py::arg("phase"),
+      "The InputError message when the watched thread is inside OpenCASCADE on one of the job's inputs, else ''.");
+  // Test hook of oraclemesh.worker (ORACLEMESH_WORKER_HANG=opencascade:<phase>): blocks the
+  // calling thread for good as a call looping inside OpenCASCADE on input `input` would.
+  m.def("hang_in_opencascade", [](const std::string& input) {
+    const OpenCascadeWork working(input);
+    py::gil_scoped_release release;
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+  });
 }

@@ -5,6 +5,14 @@
 #include <zlib.h>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <gp_Pnt.hxx>
 
 #include <chrono>
@@ -24,7 +32,9 @@
 #include "domain/NrrdReader.h"
 #include "domain/Sphere.h"
 #include "domain/TriangleSurface.h"
+#include "domain/BrepSolid.h"
 #include "domain/brep/ShapeFiles.h"
+#include "features/BrepSharpEdges.h"
 #include "features/UserPolylines.h"
 #include "input_errors.h"
 #include "occt_checks.h"
@@ -209,6 +219,85 @@ TEST(InputValidation, IgesNumbersThatAreNotFiniteAreRefusedBeforeReading) {
   message = igesMessage("strings.iges", igesFile("", {{line, 1}, {"406,1,12H1.D999,NaN,x;", 3},
                                                       {longString, 5}, {",1.D999,NaN,bbb;", 5}}));
   EXPECT_FALSE(contains(message, "not finite")) << message;
+}
+
+}  // namespace
+}  // namespace oraclemesh
+
+namespace oraclemesh {
+namespace {
+
+// The box [0, 10] x [0, 8] x [0, 5] (diagonal 13.75) with the tolerance of its edge `index`
+// (1-based, as TopExp::MapShapes numbers it) and of that edge's vertices widened to `tolerance`,
+// as OpenCASCADE's shape healing does when a face's surface does not carry the edge.
+TopoDS_Shape boxWithWideEdge(int index, double tolerance) {
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape();
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(box, TopAbs_EDGE, edges);
+  const TopoDS_Edge& edge = TopoDS::Edge(edges(index));
+  BRep_Builder builder;
+  builder.UpdateEdge(edge, tolerance);
+  TopoDS_Vertex first, last;
+  TopExp::Vertices(edge, first, last);
+  builder.UpdateVertex(first, tolerance);
+  builder.UpdateVertex(last, tolerance);
+  return box;
+}
+
+TEST(InputValidation, ToleranceWidenedToTheModelsScaleIsRefusedNamingTheEdge) {
+  // tests/data/bad/cad/box_edge_curve_misspelt.step: one plane lost its point, OpenCASCADE
+  // widened three edges to 5.00005 mm; corners 5 mm apart then became one and the sharp edge
+  // between them a polyline out and back (thesis engine: "internal error", Mesh_3: endless
+  // edge protection).
+  const std::string message = inputErrorOf([] { BrepSolid(boxWithWideEdge(1, 5.00005), "box"); });
+  EXPECT_TRUE(contains(message, "input 'box': edge 1 of 12, from (0, 0, 0) to (0, 0, 5), has a tolerance of 5.00005") &&
+              contains(message, "so the file is damaged there") && contains(message, "Part > Check geometry"))
+      << message;
+  // Just under 1 % of the diagonal passes (the shared models reach 0.015 %).
+  EXPECT_NO_THROW(BrepSolid(boxWithWideEdge(1, 0.13), "box"));
+}
+
+TEST(InputValidation, EdgeWhoseCurveEndsFarFromItsVertexIsRefusedNamingIt) {
+  // tests/data/bad/cad/brep_classifier_hang.brep: one changed byte in a BREP moved an edge's
+  // range, and OpenCASCADE's exact classifier spent seconds on every point near it.
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape();
+  TopTools_IndexedMapOfShape vertices;
+  TopExp::MapShapes(box, TopAbs_VERTEX, vertices);
+  BRep_Builder builder;
+  const gp_Pnt corner = BRep_Tool::Pnt(TopoDS::Vertex(vertices(1)));
+  builder.UpdateVertex(TopoDS::Vertex(vertices(1)), gp_Pnt(corner.X(), corner.Y(), corner.Z() + 0.5), 1e-7);
+  const std::string message = inputErrorOf([&] { BrepSolid(box, "box"); });
+  ASSERT_EQ(corner.Distance(gp_Pnt(0, 0, 5)), 0);  // the first vertex TopExp::MapShapes finds
+  EXPECT_TRUE(contains(message, "input 'box' has edge ") && contains(message, "whose curve ends at (0, 0, 5)") &&
+              contains(message, "0.5 model units from its vertex at (0, 0, 5.5) (tolerance 1e-07)") &&
+              contains(message, "Part > Check geometry"))
+      << message;
+  // Within twice the tolerance (OpenCASCADE keeps it within once) passes.
+  const TopoDS_Shape sound = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape();
+  TopTools_IndexedMapOfShape soundVertices;
+  TopExp::MapShapes(sound, TopAbs_VERTEX, soundVertices);
+  builder.UpdateVertex(TopoDS::Vertex(soundVertices(1)), gp_Pnt(0, 0, 5 + 1e-3), 1e-3);
+  EXPECT_NO_THROW(BrepSolid(sound, "box"));
+}
+
+TEST(InputValidation, SharpEdgeWhoseCornersMergeWithinTheirToleranceIsRefused) {
+  // Past the load's check (the solid is validated first, the tolerance widened after): the
+  // sharp-edge extraction, which merges corners within their tolerance, must not hand an
+  // engine a polyline from a corner back to itself.
+  const auto solid = std::make_shared<BrepSolid>(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape(), "box");
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(solid->shape(), TopAbs_EDGE, edges);
+  BRep_Builder builder;
+  TopoDS_Vertex first, last;
+  TopExp::Vertices(TopoDS::Edge(edges(1)), first, last);  // (0, 0, 0) to (0, 0, 5)
+  builder.UpdateVertex(first, 5.5);
+  builder.UpdateVertex(last, 5.5);
+  const std::string message = inputErrorOf([&] { extractSharpEdges(*solid, 0, 30, 2); });
+  EXPECT_TRUE(contains(message, "input 'box': sharp edge") && contains(message, "collapses: corners closer than 5.5") &&
+              contains(message, "(0, 0, 0) to (0, 0, 5)") && contains(message, "Part > Check geometry"))
+      << message;
+  const auto sound = std::make_shared<BrepSolid>(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape(), "box");
+  EXPECT_EQ(extractSharpEdges(*sound, 0, 30, 2).polylines.size(), 12u);
 }
 
 }  // namespace

@@ -2,19 +2,19 @@
 geometry (a STEP, IGES or BREP file, BREP text, a polyline's "brep" edge) runs in a child
 process by default, so that OpenCASCADE looping or crashing after the file was read (in the
 classifier or intersector, where the core cannot check its time limit) ends at
-limits.time_limit plus the grace with an oraclemesh.Error naming the B-rep input, and the
-interpreter goes on meshing. The same job gives the same INP bytes either way.
+limits.time_limit plus the grace with an oraclemesh.Error and the interpreter goes on meshing:
+an InputError naming the input and its file when the child was inside OpenCASCADE on it (the
+CLI's exit code 2), a LimitError naming the phase and the B-rep inputs when it was stuck
+elsewhere (the CLI's 3). The same job gives the same INP bytes either way.
 
-A real input: tests/data/part_long_initial_points.step, the shared models' part.step with
-three bytes changed (a point moved by 3e-5, one reference and one separator broken), read
-cleanly by the helper; then phase 'initial points' spends 6.7 s in OpenCASCADE's exact
-classifier (BRepClass3d_SClassifier, Extrema_ExtCC) without reaching a checkpoint of the core
-(2 cores, loaded machine). With limits.time_limit = 1, run(isolated=False) came back after
-9.9 s ("meshing exceeded"); run() ends it at 1 + 2 s.
+Real inputs on which OpenCASCADE ran long after reading are now refused while reading
+(domain/brep/ToleranceCheck): tests/data/part_long_initial_points.step (part.step with three
+bytes changed: 6.7 s per classification in phase 'initial points') has an edge OpenCASCADE
+widened to 9.5 mm; tests/data/bad/cad/brep_classifier_hang.brep (test_bad_cad_inputs.py) an
+edge whose curve ends 11.5 mm from its vertex.
 Crashes and endless hangs are the worker's test hooks (ORACLEMESH_WORKER_HANG / _CRASH =
-phase): they block or kill the child where the core reports that phase, as a call looping or
-crashing inside OpenCASCADE would (the real inputs that did, tests/data/bad/cad, are caught
-by the B-rep helper before meshing starts and tested in test_bad_cad_inputs.py).
+phase, HANG = opencascade:phase inside OpenCASCADE on the first input): they block or kill the
+child where the core reports that phase, as a call looping or crashing inside OpenCASCADE would.
 """
 import os
 import signal
@@ -105,20 +105,33 @@ def test_hang_after_reading_ends_at_the_time_limit_naming_the_file(phase, monkey
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
 
-def test_long_opencascade_call_after_reading_a_real_file_ends_at_the_time_limit():
+@pytest.mark.parametrize("phase", ["initial points", "refine"])
+def test_hang_inside_opencascade_after_reading_is_an_input_error_naming_the_file(phase, monkeypatch):
+    monkeypatch.setenv("ORACLEMESH_WORKER_HANG", "opencascade:" + phase)
+    start = time.monotonic()
+    with pytest.raises(oraclemesh.InputError) as err:
+        oraclemesh.run(plate_job(limits={"time_limit": TIME_LIMIT}))
+    seconds = time.monotonic() - start
+    assert TIME_LIMIT + GRACE <= seconds < TIME_LIMIT + GRACE + SLACK, seconds
+    message = str(err.value)
+    assert ("OpenCASCADE did not finish working on input 'plate' (file '%s') within limits.time_limit = 2 s "
+            "(and 2 s of grace), in phase '%s'" % (os.path.abspath(PLATE), phase)) in message, message
+    assert "Part > Check geometry" in message
+    monkeypatch.delenv("ORACLEMESH_WORKER_HANG")
+    assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
+
+
+def test_real_file_opencascade_ran_long_on_is_refused_while_reading():
     job = {"inputs": [{"name": "part", "file": LONG_INITIAL_POINTS, "material": 1}], "element_order": 1,
            "criteria": {"default": {"cell_size": 4, "facet_size": 4, "facet_distance": 0.5}},
            "limits": {"time_limit": 1}}
     start = time.monotonic()
-    with pytest.raises(oraclemesh.LimitError) as err:
+    with pytest.raises(oraclemesh.InputError) as err:
         oraclemesh.run(job)
-    seconds = time.monotonic() - start
-    assert 1 + GRACE <= seconds < 1 + GRACE + SLACK, seconds
+    assert time.monotonic() - start < 1 + GRACE + SLACK
     message = str(err.value)
-    # The hard deadline's message, not the core's own "meshing exceeded" at its next checkpoint.
-    assert "did not end within limits.time_limit = 1 s (and 2 s of grace)" in message, message
-    assert "stuck in phase 'initial points'" in message, message
-    assert "input 'part' (file '%s')" % LONG_INITIAL_POINTS in message, message
+    assert "input 'part' (file '%s'): edge 33 of 70" % LONG_INITIAL_POINTS in message, message
+    assert "has a tolerance of 9.5251" in message and "Part > Check geometry" in message, message
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
 

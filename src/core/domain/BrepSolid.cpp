@@ -13,6 +13,7 @@
 
 #include "Error.h"
 #include "domain/CoordinateRange.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/FiniteGeometry.h"
 #include "domain/brep/SolidChecks.h"
 
@@ -22,6 +23,7 @@ BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name, Tessellation t
     : impl_(std::make_unique<Impl>()) {
   impl_->name = std::move(name);
   const std::string what = "input '" + impl_->name + "'";
+  const OpenCascadeWork working(impl_->name);
   try {
     requireFiniteGeometry(shape, what);
     impl_->shape = validatedSolids(shape, what);

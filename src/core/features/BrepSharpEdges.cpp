@@ -17,11 +17,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <numeric>
 
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
@@ -127,6 +129,32 @@ bool outwardNormalAlongEdge(const TopoDS_Edge& edge, const TopoDS_Face& face, do
   return true;
 }
 
+namespace {
+
+// The corners merged within their tolerance must leave the polyline a path: no segment of
+// length zero, and an edge that is not closed does not come back to its start. A vertex
+// tolerance as long as its edge (a damaged file; ToleranceCheck refuses the widest), or a
+// damaged coordinate far out that makes 1e-9 of the solid's size longer than its edges,
+// would otherwise give a polyline that runs out and back, which neither engine can keep.
+void requireDistinctPoints(const std::vector<Point3>& points, bool closed, const BrepTopology& solid, int edge,
+                           double mergeDistance, double diagonal) {
+  bool collapsed = !closed && points.front() == points.back();
+  for (size_t i = 0; i + 1 < points.size() && !collapsed; ++i) collapsed = points[i] == points[i + 1];
+  if (!collapsed) return;
+  BRepAdaptor_Curve curve(solid.edge(edge));
+  const Point3 a = toPoint3(curve.Value(curve.FirstParameter())), b = toPoint3(curve.Value(curve.LastParameter()));
+  char text[480];
+  std::snprintf(text, sizeof text,
+                "': sharp edge %d (from (%g, %g, %g) to (%g, %g, %g)) collapses: corners closer than %g (the larger "
+                "of their tolerance and 1e-9 of the solid's size, %g) are one point, which makes two of its points "
+                "one; the file is damaged there (a tolerance or a coordinate): check it with Part > Check geometry, "
+                "repair it or export it again from the CAD tool",
+                edge + 1, a[0], a[1], a[2], b[0], b[1], b[2], mergeDistance, diagonal);
+  throw InputError("input '" + solid.name() + text);
+}
+
+}  // namespace
+
 FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength, double sagittaTolerance,
                                const std::function<double(const Point3&)>& localSegmentLength) {
@@ -136,6 +164,7 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
   if (!(sharpAngleDeg >= 0 && sharpAngleDeg < 180))
     throw InputError("features.sharp_angle_deg must be between 0 and 180 degrees, got " + std::to_string(sharpAngleDeg));
   const double diagonal = solid.bbox().diagonal();
+  const OpenCascadeWork working(solid.name());
   const double cosThreshold = std::cos(sharpAngleDeg * kPi / 180);
   if (!(sagittaTolerance > 0)) sagittaTolerance = featureSagittaTolerance(maxSegmentLength, diagonal);
 
@@ -219,6 +248,10 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
       polyline.points.push_back(corner[vertexMap.FindIndex(firstVertex) - 1]);
       for (size_t i = 1; i + 1 < params.size(); ++i) polyline.points.push_back(toPoint3(curve.Value(params[i])));
       polyline.points.push_back(corner[vertexMap.FindIndex(lastVertex) - 1]);
+      requireDistinctPoints(polyline.points, closed, solid, e,
+                            std::max(cornerTolerance[vertexMap.FindIndex(firstVertex) - 1],
+                                     cornerTolerance[vertexMap.FindIndex(lastVertex) - 1]),
+                            diagonal);
       polyline.curve = sourceIndex * kCurvesPerSource + e;
       polyline.source = sourceIndex;
       polyline.edge = e;

@@ -19,6 +19,7 @@
 
 #include "RunControl.h"
 #include "domain/BrepTopology.h"
+#include "domain/OpenCascadeWork.h"
 #include "features/BrepSharpEdges.h"
 
 namespace oraclemesh {
@@ -246,6 +247,7 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
     for (size_t e = 0; e < oracle.entries().size(); ++e) {
       current = oracle.entries()[e].source->brepTopology();
       if (!current) continue;
+      const OpenCascadeWork working(current->name());
       samplers.emplace_back(*current, fineness, oracle.diagonal(), cap, control);
       sizes.surface_vertices += samplers.back().surfaceVertices();
       if (samplers.back().surfaceVertices() > largest) {
@@ -258,6 +260,7 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
     if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
     for (FaceSampler& sampler : samplers) {
       current = &sampler.solid();
+      const OpenCascadeWork working(current->name());
       sampler.addSamples(sizes.samples, control);
       if (sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
     }

@@ -171,6 +171,11 @@ def _time_limit(job):
     return float(limit) if valid else 3600.0
 
 
+# How long run_isolated waits past the deadline for the child's own verdict (an input
+# OpenCASCADE is stuck on, oraclemesh.worker) before it kills the child as a LimitError.
+_CHILD_VERDICT_SECONDS = 2.0
+
+
 def _grace(limit):
     """As the CLI's hard deadline (src/cli/HardDeadline.h): a tenth of the limit, 2 to 30 s,
     for the core's own checkpoint to stop the job first."""
@@ -223,11 +228,12 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
     caller's process (FreeCAD), and cancelling (progress returning False) ends the child at
     once. cancel: an optional threading.Event; setting it (from any thread) ends the child
     within 0.1 s even in phases that report no progress (sliver perturbation, exudation).
-    hard_deadline: the child is ended limits.time_limit plus a grace (a tenth of it, 2 to
-    30 s, as the CLI's) after the core's first report, with an oraclemesh.LimitError naming
-    the phase and the B-rep inputs,
-    when a call that reports no progress (OpenCASCADE looping on a damaged shape) keeps the
-    core from its own checkpoint; False leaves the deadline to the caller (oraclemesh.study
+    hard_deadline: when a call that reports no progress keeps the core from its own
+    checkpoint, the job ends limits.time_limit plus a grace (a tenth of it, 2 to 30 s, as the
+    CLI's) after the core's first report: stuck inside OpenCASCADE on an input's geometry, the
+    child says so, an oraclemesh.InputError naming the input and its file (as the CLI's exit
+    code 2); stuck elsewhere, the child is killed 2 s later, an oraclemesh.LimitError naming
+    the phase and the B-rep inputs (the CLI's 3). False leaves the deadline to the caller (oraclemesh.study
     has its own). environment: extra variables for the child only (a batch case's test
     hooks, see oraclemesh.worker). Costs a process start and a copy of the result arrays.
     """
@@ -250,6 +256,10 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
             [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
         env.update(environment or {})
         env["ORACLEMESH_WORKER_PARENT"] = str(os.getpid())  # worker.PARENT_VARIABLE
+        limit = _time_limit(job)
+        grace = _grace(limit)
+        if hard_deadline:  # worker.DEADLINE_VARIABLE: the child names an input OpenCASCADE is stuck on
+            env["ORACLEMESH_WORKER_DEADLINE"] = "%r %r" % (limit, grace)
         # The module is built for the system interpreter; inside FreeCAD sys.executable is
         # FreeCAD itself, so the interpreter is found from the running Python's prefix.
         python = os.path.join(sys.base_prefix, "bin", "python3")
@@ -257,9 +267,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         stderr_file = open(os.path.join(tmp, "stderr.txt"), "w+")
         child = subprocess.Popen([python, "-m", "oraclemesh.worker", job_path, result_path],
                                  stdout=subprocess.PIPE, stderr=stderr_file, env=env, text=True)
-        limit = _time_limit(job)
-        grace = _grace(limit)
-        ended = _ChildEnder(child, cancel, limit + grace if hard_deadline else None)
+        ended = _ChildEnder(child, cancel, limit + grace + _CHILD_VERDICT_SECONDS if hard_deadline else None)
         phase = ""
         try:
             for line in child.stdout:

@@ -10,12 +10,14 @@
 
 #include <map>
 
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
 
 std::vector<BoundarySample> BrepSolid::boundarySamples(double spacing) const {
   const Impl& m = *impl_;
+  const OpenCascadeWork working(m.name);
   // Candidates are face-interior points: interior tessellation nodes and the parametric
   // centroids of tessellation triangles, evaluated on the exact surface. Points on edges are
   // left out on purpose: the two faces of an edge would give near-duplicate seeds there, and

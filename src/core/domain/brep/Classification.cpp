@@ -5,6 +5,7 @@
 #include <Standard_Failure.hxx>
 
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
@@ -76,6 +77,7 @@ bool BrepSolid::Impl::classifyExact(const Point3& p) const {
 
 bool BrepSolid::insideExact(const Point3& p) const {
   if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
+  const OpenCascadeWork working(impl_->name);
   try {
     return impl_->classifyExact(p);
   } catch (const Standard_Failure& failure) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
@@ -173,6 +174,7 @@ std::vector<BoundaryCrossing> BrepSolid::crossings(const Point3& a, const Point3
   if (distance(a, b) == 0.0) return {};
   CGAL::Bbox_3 box(m.box.min[0], m.box.min[1], m.box.min[2], m.box.max[0], m.box.max[1], m.box.max[2]);
   if (!SegmentBoxTest(a, b - a).meets(box, m.classifyTolerance)) return {};
+  const OpenCascadeWork working(m.name);
   try {
     return m.exactCrossings(a, b, m.facesNearSegment(a, b));
   } catch (const Standard_Failure& failure) {

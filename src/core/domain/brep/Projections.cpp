@@ -12,6 +12,7 @@
 #include <map>
 
 #include "Error.h"
+#include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
 
 namespace oraclemesh {
@@ -30,6 +31,7 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
 
 BoundaryProjection BrepSolid::project(const Point3& p) const {
   const Impl& m = *impl_;
+  const OpenCascadeWork working(m.name);
   const gp_Pnt q = toGp(p);
   BoundaryProjection best;
   try {
@@ -81,6 +83,7 @@ BoundaryProjection BrepSolid::project(const Point3& p) const {
 
 BoundaryProjection BrepSolid::projectOnEdge(const Point3& p, int edgeIndex) const {
   const Impl& m = *impl_;
+  const OpenCascadeWork working(m.name);
   BoundaryProjection result;
   try {
     BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(toGp(p)).Vertex(), m.edges.at(edgeIndex),

@@ -26,6 +26,7 @@
 
 #include "Error.h"
 #include "domain/brep/FiniteGeometry.h"
+#include "domain/brep/ToleranceCheck.h"
 
 namespace oraclemesh {
 
@@ -230,6 +231,7 @@ SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
     if (!(std::abs(v) > 0))
       throw InputError(what + " has a solid with zero volume: select a solid that encloses a volume");
   }
+  requireConsistentTolerances(pieces.solids, what);
   return pieces;
 }
 
