@@ -14,6 +14,7 @@
 #include "improve/ImprovementMesh.h"
 #include "improve/MeshImprovement.h"
 #include "improve/Smoothing.h"
+#include "improve/TetShape.h"
 #include "mesh/Quality.h"
 #include "mesh_checks.h"
 #include "mesh_fixtures.h"
@@ -135,7 +136,25 @@ void expectValid(const TetMesh& before, const TetMesh& after) {
   EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
 }
 
-ImprovementStats improve(TetMesh& m) { return improveMesh(m, ImprovementOptions{}, RunControl()); }
+// A goal above every configuration here, so each is worked on.
+ImprovementStats improve(TetMesh& m) {
+  ImprovementOptions options;
+  options.goal_deg = 70;
+  return improveMesh(m, options, RunControl());
+}
+
+TEST(ImproveShape, SmallestDihedralIsTheSmallestOfTheSix) {
+  uint64_t state = 12345;
+  auto next = [&] { return (state = state * 6364136223846793005ULL + 1442695040888963407ULL) / 18446744073709551616.0; };
+  for (int trial = 0; trial < 2000; ++trial) {
+    Point3 p[4];
+    for (auto& q : p) q = {next(), next(), next()};
+    if (trial % 3 == 0) p[3] = p[0] + 0.3 * (p[1] - p[0]) + 0.4 * (p[2] - p[0]) + Point3{0, 0, 1e-7 * next()};
+    const auto angles = dihedralAngles(p[0], p[1], p[2], p[3]);
+    const double expected = *std::min_element(angles.begin(), angles.end());
+    EXPECT_NEAR(smallestDihedral(p[0], p[1], p[2], p[3]), expected, 1e-9 + 1e-9 * expected) << trial;
+  }
+}
 
 TEST(ImproveFlips, TwoThreeFlipFixesFlatPair) {
   const TetMesh before = twoTets(0.2);

@@ -37,6 +37,13 @@ ImprovementMesh::ImprovementMesh(TetMesh& mesh) : points_(mesh.points) {
   for (const BoundaryTriangle& b : mesh.boundary) protected_faces_.insert(faceKey(b.v[0], b.v[1], b.v[2]));
   for (const auto& e : mesh.feature_edges) protected_edges_.insert({std::min(e[0], e[1]), std::max(e[0], e[1]), -1});
   classifyVertices(mesh);
+  changed_at_.assign(points_.size(), 0);
+}
+
+void ImprovementMesh::markMoved(int64_t v) {
+  ++clock_;
+  for (int64_t t : vertex_tets_[v])
+    for (int64_t w : tets_[t]) changed_at_[w] = clock_;
 }
 
 void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
@@ -137,7 +144,9 @@ bool ImprovementMesh::isProtectedFace(int64_t a, int64_t b, int64_t c) const {
 
 std::vector<int64_t> ImprovementMesh::replace(const std::vector<int64_t>& old, const std::vector<TetCorners>& made,
                                               int material) {
+  ++clock_;
   for (int64_t t : old) {
+    for (int64_t v : tets_[t]) changed_at_[v] = clock_;
     alive_[t] = 0;
     for (int64_t v : tets_[t]) {
       auto& list = vertex_tets_[v];

@@ -49,6 +49,13 @@ class ImprovementMesh {
 
   double quality(int64_t t) const { return smallestDihedral(points_, tets_[t]); }
 
+  // When the neighbourhood of a vertex last changed (a tet of it replaced, it or a neighbour
+  // moved), on a counter of changes: lets the driver skip what it tried since.
+  int64_t changedAt(int64_t v) const { return changed_at_[v]; }
+  int64_t now() const { return clock_; }
+  // Marks v and every vertex of its tets changed (after moving v).
+  void markMoved(int64_t v);
+
   // Removes `old` and adds `made` (all of `material`); returns the new tets' indices.
   std::vector<int64_t> replace(const std::vector<int64_t>& old, const std::vector<TetCorners>& made, int material);
 
@@ -72,6 +79,8 @@ class ImprovementMesh {
   std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_faces_;
   std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_edges_;  // (a, b, -1), a < b
   std::vector<VertexMobility> mobility_;
+  std::vector<int64_t> changed_at_;
+  int64_t clock_ = 0;
 };
 
 }  // namespace oraclemesh

@@ -23,6 +23,17 @@ double meshMinDihedral(const TetMesh& mesh) {
   return mesh.tets.empty() ? 0 : m;
 }
 
+PoorTetCounts countPoorTets(const TetMesh& mesh) {
+  PoorTetCounts c;
+  for (const auto& t : mesh.tets) {
+    const double q = smallestDihedral(mesh.points, t);
+    c.under5 += q < 5;
+    c.under10 += q < 10;
+    c.under15 += q < 15;
+  }
+  return c;
+}
+
 // Alive tets under the goal, worst first, ties by index.
 std::vector<std::pair<double, int64_t>> worstFirst(const ImprovementMesh& mesh, double goal) {
   std::vector<std::pair<double, int64_t>> order;
@@ -38,7 +49,16 @@ std::vector<std::pair<double, int64_t>> worstFirst(const ImprovementMesh& mesh, 
 class Driver {
  public:
   Driver(ImprovementMesh& mesh, const ImprovementOptions& options, const RunControl& control, ImprovementStats& stats)
-      : mesh_(mesh), options_(options), control_(control), stats_(stats), start_(std::chrono::steady_clock::now()) {}
+      : mesh_(mesh), options_(options), control_(control), stats_(stats), start_(std::chrono::steady_clock::now()),
+        vertex_tried_(mesh.points().size(), -1) {}
+
+  // A tet tried before is tried again only when something around one of its corners changed.
+  bool changedSinceTried(int64_t t) const {
+    if (t >= static_cast<int64_t>(tet_tried_.size()) || tet_tried_[t] < 0) return true;
+    for (int64_t v : mesh_.tet(t))
+      if (mesh_.changedAt(v) > tet_tried_[t]) return true;
+    return false;
+  }
 
   bool outOfTime() {
     if (++operations_ % 256 == 0) control_.checkpoint();
@@ -57,9 +77,11 @@ class Driver {
   int64_t topologicalSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
-      if (!mesh_.alive(t)) continue;
+      if (!mesh_.alive(t) || !changedSinceTried(t)) continue;
       if (outOfTime()) break;
       const TetCorners c = mesh_.tet(t);
+      if (static_cast<int64_t>(tet_tried_.size()) < mesh_.tetSlots()) tet_tried_.resize(mesh_.tetSlots(), -1);
+      tet_tried_[t] = mesh_.now();
       const auto& p = mesh_.points();
       const auto angles = dihedralAngles(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
       int edges[6] = {0, 1, 2, 3, 4, 5};
@@ -93,6 +115,8 @@ class Driver {
       for (int64_t v : mesh_.tet(t)) {
         if (visited[v]) continue;
         visited[v] = 1;
+        if (vertex_tried_[v] >= mesh_.changedAt(v)) continue;  // nothing near it changed since
+        vertex_tried_[v] = mesh_.now();
         if (outOfTime()) return changes;
         if (!smoothVertex(mesh_, v)) continue;
         ++changes;
@@ -113,6 +137,8 @@ class Driver {
   ImprovementStats& stats_;
   std::chrono::steady_clock::time_point start_;
   int64_t operations_ = 0;
+  std::vector<int64_t> tet_tried_;     // clock when each tet was last tried, -1 never
+  std::vector<int64_t> vertex_tried_;  // same for smoothing each vertex
 };
 
 }  // namespace
@@ -121,6 +147,7 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
   ImprovementStats stats;
   ImprovementMesh work(mesh);
   stats.min_dihedral_before = meshMinDihedral(mesh);
+  stats.before = countPoorTets(mesh);
   Driver driver(work, options, control, stats);
   for (int pass = 0; pass < options.max_passes && !stats.stopped_by_time_limit; ++pass) {
     ++stats.passes;
@@ -129,6 +156,7 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
   }
   work.writeBack(mesh);
   stats.min_dihedral_after = meshMinDihedral(mesh);
+  stats.after = countPoorTets(mesh);
   stats.seconds = driver.elapsed();
   return stats;
 }

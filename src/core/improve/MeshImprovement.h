@@ -15,14 +15,19 @@
 namespace oraclemesh {
 
 struct ImprovementOptions {
-  double goal_deg = 40;   // tets whose smallest dihedral angle is below it are worked on
+  double goal_deg = 30;   // tets whose smallest dihedral angle is below it are worked on
   int max_passes = 8;     // the deterministic work bound; a pass that changes nothing ends it
   double time_limit = 0;  // seconds, 0 = none (a wall-time stop makes the mesh machine-dependent)
+};
+
+struct PoorTetCounts {
+  int64_t under5 = 0, under10 = 0, under15 = 0;  // tets by smallest dihedral angle, degrees
 };
 
 struct ImprovementStats {
   double min_dihedral_before = 0;  // degrees
   double min_dihedral_after = 0;
+  PoorTetCounts before, after;
   int64_t flips23 = 0;
   int64_t flips32 = 0;           // edge removal with a ring of 3
   int64_t flips44 = 0;           // ring of 4

@@ -8,8 +8,8 @@
 namespace oraclemesh {
 namespace {
 
-constexpr int kAscentSteps = 8;      // line searches per call
-constexpr int kStepHalvings = 12;    // how far each line search backs off
+constexpr int kAscentSteps = 5;   // line searches per call
+constexpr int kStepHalvings = 8;  // how far each line search backs off
 
 struct Star {
   ImprovementMesh& mesh;
@@ -106,6 +106,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
   }
   if (position == start) return false;
   p[v] = position;
+  mesh.markMoved(v);
   return true;
 }
 

@@ -212,6 +212,8 @@ json improvementJson(const ImprovementReport& r, const std::vector<SmallInputAng
           {"operations", {{"flips23", s.flips23}, {"flips32", s.flips32}, {"flips44", s.flips44},
                           {"edge_removals_5_to_7", s.edge_removals}, {"smoothed_interior", s.smoothed_interior},
                           {"smoothed_surface", s.smoothed_surface}, {"smoothed_feature", s.smoothed_feature}}},
+          {"tets_before", {{"under_5_deg", s.before.under5}, {"under_10_deg", s.before.under10},
+                           {"under_15_deg", s.before.under15}}},
           {"passes", s.passes},
           {"stopped_by_time_limit", s.stopped_by_time_limit},
           {"seconds", s.seconds},
