@@ -15,7 +15,7 @@
 namespace oraclemesh {
 
 struct ImprovementOptions {
-  double goal_deg = 30;   // tets whose smallest dihedral angle is below it are worked on
+  double goal_deg = 20;   // tets whose smallest dihedral angle is below it are worked on
   int max_passes = 8;     // the deterministic work bound; a pass that changes nothing ends it
   double time_limit = 0;  // seconds, 0 = none (a wall-time stop makes the mesh machine-dependent)
 };

@@ -77,6 +77,23 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
   if (current < 0) return false;
   Point3 position = start;
   const double h = 1e-7 * shortest;
+  // Moves along `direction` by a fifth of the shortest edge, backing off until the worst angle
+  // rises; false when no step along it does.
+  auto lineSearch = [&](const Point3& direction) {
+    const double length = norm(direction);
+    if (!(length > 0)) return false;
+    double stepLength = 0.2 * shortest;
+    for (int k = 0; k < kStepHalvings; ++k, stepLength *= 0.5) {
+      const Point3 q = position + (stepLength / length) * direction;
+      const double worst = star.worstAt(q, &bound);
+      if (worst > current) {
+        position = q;
+        current = worst;
+        return true;
+      }
+    }
+    return false;
+  };
   for (int step = 0; step < kAscentSteps; ++step) {
     // Ascent direction of the worst angle by central differences along the free axes.
     Point3 gradient{0, 0, 0};
@@ -86,23 +103,17 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
       dm[axis] -= h;
       gradient[axis] = (star.softWorstAt(dp) - star.softWorstAt(dm)) / (2 * h);
     }
-    const Point3 direction = project(gradient, mobility);
-    const double length = norm(direction);
-    if (!(length > 0)) break;
-    // Back off from a step of a fifth of the shortest edge until the worst angle rises.
-    double stepLength = 0.2 * shortest;
-    bool improved = false;
-    for (int k = 0; k < kStepHalvings; ++k, stepLength *= 0.5) {
-      const Point3 q = position + (stepLength / length) * direction;
-      const double worst = star.worstAt(q, &bound);
-      if (worst > current) {
-        position = q;
-        current = worst;
-        improved = true;
-        break;
+    if (lineSearch(project(gradient, mobility))) continue;
+    // Where two worst angles meet, the gradient of one lowers the other: a compass search
+    // along the free axes finds the way out.
+    bool moved = false;
+    for (int axis = 0; axis < 3 && !moved; ++axis)
+      for (double sign : {1.0, -1.0}) {
+        Point3 d{0, 0, 0};
+        d[axis] = sign;
+        if ((moved = lineSearch(project(d, mobility)))) break;
       }
-    }
-    if (!improved) break;
+    if (!moved) break;
   }
   if (position == start) return false;
   p[v] = position;

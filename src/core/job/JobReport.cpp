@@ -207,7 +207,8 @@ json improvementJson(const ImprovementReport& r, const std::vector<SmallInputAng
     }
     poor.push_back(entry);
   }
-  return {{"min_dihedral_before_deg", s.min_dihedral_before},
+  return {{"enabled", r.enabled},
+          {"min_dihedral_before_deg", s.min_dihedral_before},
           {"min_dihedral_after_deg", s.min_dihedral_after},
           {"operations", {{"flips23", s.flips23}, {"flips32", s.flips32}, {"flips44", s.flips44},
                           {"edge_removals_5_to_7", s.edge_removals}, {"smoothed_interior", s.smoothed_interior},

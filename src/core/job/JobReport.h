@@ -97,6 +97,7 @@ struct SurfaceReport {
 std::vector<SurfaceReport> describeSurfaces(const std::vector<MeshSurface>& surfaces, const MaterialNames& names);
 
 struct ImprovementReport {
+  bool enabled = false;  // optimize.improve
   ImprovementStats stats;
   PoorElements poor;  // after the stage
 };

@@ -87,7 +87,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   control.report("improve", 0);
   ImprovementOptions improvement;
   improvement.time_limit = job.optimize_time_limit;
-  report.improve.stats = improveMesh(mesh, improvement, control);
+  report.improve.enabled = job.improve;
+  if (job.improve) report.improve.stats = improveMesh(mesh, improvement, control);
   report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle);
   clock.finish("improve");
 
