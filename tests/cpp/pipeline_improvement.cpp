@@ -49,8 +49,16 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
   EXPECT_LT(s.after.under10, s.before.under10);
   EXPECT_LT(s.after.under15, s.before.under15);
   EXPECT_GT(s.flips32 + s.flips44 + s.edge_removals, 0);
+  EXPECT_GT(s.smoothed_interior, 0);
   EXPECT_GT(s.smoothed_surface, 0);
-  EXPECT_GT(s.smoothed_feature, 0);
+  // No feature edge got longer than the longest was (the edge size holds): Rule Set Q's
+  // equalised subsegments leave feature vertices here no room along their lines.
+  double longestBefore = 0, longestAfter = 0;
+  for (const auto& e : before.feature_edges)
+    longestBefore = std::max(longestBefore, distance(before.points[e[0]], before.points[e[1]]));
+  for (const auto& e : after.feature_edges)
+    longestAfter = std::max(longestAfter, distance(after.points[e[0]], after.points[e[1]]));
+  EXPECT_LE(longestAfter, longestBefore);
 
   EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
   EXPECT_EQ(after.feature_edges, before.feature_edges);

@@ -86,7 +86,10 @@ void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
       for (size_t i : boundaryOf[v])
         for (int64_t w : mesh.boundary[i].v)
           if (std::abs(dot(points_[w] - p, axis)) > kFlatTolerance * reach) flat = false;
-      if (flat) mobility_[v] = {VertexFreedom::Planar, axis};
+      if (!flat) continue;
+      mobility_[v].freedom = VertexFreedom::Planar;
+      mobility_[v].axis = axis;
+      for (size_t i : boundaryOf[v]) mobility_[v].boundary_triangles.push_back(mesh.boundary[i].v);
       continue;
     }
     if (featureOf[v].size() != 2) continue;
@@ -95,8 +98,9 @@ void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
     if (!mesh.feature_edge_curves.empty() &&
         mesh.feature_edge_curves[featureOf[v][0]] != mesh.feature_edge_curves[featureOf[v][1]])
       continue;
-    const Point3 u0 = points_[e0[0] == static_cast<int64_t>(v) ? e0[1] : e0[0]] - p;
-    const Point3 u1 = points_[e1[0] == static_cast<int64_t>(v) ? e1[1] : e1[0]] - p;
+    const int64_t w0 = e0[0] == static_cast<int64_t>(v) ? e0[1] : e0[0];
+    const int64_t w1 = e1[0] == static_cast<int64_t>(v) ? e1[1] : e1[0];
+    const Point3 u0 = points_[w0] - p, u1 = points_[w1] - p;
     if (norm(cross(u0, u1)) > kFlatTolerance * norm(u0) * norm(u1) || dot(u0, u1) >= 0) continue;
     // Moving along the line keeps every boundary triangle at v in its plane only if the
     // line lies in that plane (then no material gains or loses volume).
@@ -104,7 +108,10 @@ void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
     bool inEveryPlane = true;
     for (const Point3& m : normals)
       if (std::abs(dot(m, axis)) > kFlatTolerance) inEveryPlane = false;
-    if (inEveryPlane) mobility_[v] = {VertexFreedom::Linear, axis};
+    if (!inEveryPlane) continue;
+    mobility_[v].freedom = VertexFreedom::Linear;
+    mobility_[v].axis = axis;
+    mobility_[v].feature_neighbours = {w0, w1};
   }
 }
 

@@ -24,6 +24,11 @@ enum class VertexFreedom {
 struct VertexMobility {
   VertexFreedom freedom = VertexFreedom::Fixed;
   Point3 axis{};  // unit normal of the plane (Planar) or direction of the line (Linear)
+  // What bounds the move besides the tets: the boundary triangles at the vertex (Planar), whose
+  // circumradius the facet size bounds, or the two ends of its feature edges (Linear), whose
+  // length the edge size bounds.
+  std::vector<std::array<int64_t, 3>> boundary_triangles;
+  std::array<int64_t, 2> feature_neighbours{-1, -1};
 };
 
 class ImprovementMesh {

@@ -47,6 +47,25 @@ struct Star {
   }
 };
 
+double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c) {
+  const double area2 = norm(cross(b - a, c - a));
+  return area2 > 0 ? distance(a, b) * distance(b, c) * distance(c, a) / (2 * area2)
+                   : std::numeric_limits<double>::infinity();
+}
+
+// The largest boundary triangle circumradius (Planar) or feature edge length (Linear) at v
+// with v at q: a move may not make it larger than it was (the facet and edge sizes still hold).
+double boundarySizeAt(const ImprovementMesh& mesh, int64_t v, const Point3& q) {
+  const VertexMobility& m = mesh.mobility(v);
+  const auto& p = mesh.points();
+  auto at = [&](int64_t w) -> const Point3& { return w == v ? q : p[w]; };
+  double size = 0;
+  for (const auto& t : m.boundary_triangles) size = std::max(size, triangleCircumradius(at(t[0]), at(t[1]), at(t[2])));
+  if (m.freedom == VertexFreedom::Linear)
+    for (int64_t w : m.feature_neighbours) size = std::max(size, distance(q, p[w]));
+  return size;
+}
+
 Point3 project(const Point3& d, const VertexMobility& m) {
   switch (m.freedom) {
     case VertexFreedom::Free: return d;
@@ -73,6 +92,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
       if (w != v) shortest = std::min(shortest, distance(p[v], p[w]));
   }
   const Point3 start = p[v];
+  const double boundarySize = boundarySizeAt(mesh, v, start);
   double current = star.worstAt(start, &bound);
   if (current < 0) return false;
   Point3 position = start;
@@ -86,7 +106,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
     for (int k = 0; k < kStepHalvings; ++k, stepLength *= 0.5) {
       const Point3 q = position + (stepLength / length) * direction;
       const double worst = star.worstAt(q, &bound);
-      if (worst > current) {
+      if (worst > current && boundarySizeAt(mesh, v, q) <= boundarySize) {
         position = q;
         current = worst;
         return true;
