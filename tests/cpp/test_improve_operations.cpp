@@ -260,12 +260,11 @@ TEST(ImproveEdgeRemoval, RingOfMixedMaterialsIsKept) {
   EXPECT_EQ(removeEdge(work, 0, 1), 0);
 }
 
-// A pyramid over the square (+-1, +-1, 0) with its apex at (0, 0, 1), fanned from a vertex v
-// of the base placed off centre at (0.8, 0.1, 0): every base triangle is on the boundary, in
-// the plane z = 0.
-TetMesh fanOverPlanarBase() {
+// A pyramid over the quadrilateral `base` (counter-clockwise in z = 0) with its apex at
+// (0, 0, 1), fanned from a vertex v of the base: every base triangle is on the boundary.
+TetMesh pyramidFannedFrom(const Point3& v, const std::array<Point3, 4>& base) {
   TetMesh m;
-  m.points = {{0.8, 0.1, 0}, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {0, 0, 1}};
+  m.points = {v, base[0], base[1], base[2], base[3], {0, 0, 1}};
   for (int64_t i = 0; i < 4; ++i) {
     const int64_t r = 1 + i, s = 1 + (i + 1) % 4;
     m.tets.push_back({0, r, s, 5});
@@ -278,6 +277,9 @@ TetMesh fanOverPlanarBase() {
   m.vertex_curve.assign(6, -1);
   return m;
 }
+
+// Over the square (+-1, +-1, 0), v off centre at (0.8, 0.1, 0).
+TetMesh fanOverPlanarBase() { return pyramidFannedFrom({0.8, 0.1, 0}, {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}}); }
 
 TEST(ImproveSmoothing, SurfaceVertexStaysInItsPlane) {
   const TetMesh before = fanOverPlanarBase();
@@ -305,20 +307,11 @@ TEST(ImproveSmoothing, SurfaceVertexOfTwoInterfacesStays) {
 // The same pyramid with a straight feature curve across its base through v, from (-1, 0, 0)
 // to (1, 0, 0), v at (0.7, 0, 0): v may move along the x axis only.
 TEST(ImproveSmoothing, FeatureVertexStaysOnItsLine) {
-  TetMesh m;
-  m.points = {{0.7, 0, 0}, {-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (int64_t i = 0; i < 4; ++i) {
-    const int64_t r = 1 + i, s = 1 + (i + 1) % 4;
-    m.tets.push_back({0, r, s, 5});
-    m.tet_materials.push_back(1);
-    m.boundary.push_back({{0, s, r}, 1, 0});
-    m.boundary.push_back({{r, s, 5}, 1, 0});
-  }
-  orientAll(m);
+  TetMesh m = pyramidFannedFrom({0.7, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
   m.feature_edges = {{1, 0}, {0, 3}};
   m.feature_edge_curves = {7, 7};
-  m.vertex_dimension = {1, 0, 0, 0, 0, 0};
-  m.vertex_curve = {7, -1, -1, -1, -1, -1};
+  m.vertex_dimension[0] = 1;
+  m.vertex_curve[0] = 7;
   const TetMesh before = m;
   ImprovementMesh work(m);
   ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
