@@ -191,6 +191,40 @@ json smallInputAnglesJson(const std::vector<SmallInputAngle>& smallAngles) {
   return angles;
 }
 
+json improvementJson(const ImprovementReport& r, const std::vector<SmallInputAngle>& smallAngles) {
+  const ImprovementStats& s = r.stats;
+  json poor = json::array();
+  for (const PoorElement& e : r.poor.listed) {
+    json entry = {{"tet", e.tet}, {"material", e.material}, {"min_dihedral_deg", e.min_dihedral},
+                  {"location", e.location}};
+    if (e.small_angle >= 0) {
+      const SmallInputAngle& a = smallAngles[e.small_angle];
+      entry["reason"] = "small input angle";
+      entry["small_input_angle"] = {{"index", e.small_angle}, {"kind", a.kind}, {"angle_deg", a.angle_deg},
+                                    {"location", a.location}, {"distance", e.small_angle_distance}};
+    } else {
+      entry["reason"] = s.stopped_by_time_limit ? "not improved in the time budget" : "not improved in the budget";
+    }
+    poor.push_back(entry);
+  }
+  return {{"enabled", r.enabled},
+          {"min_dihedral_before_deg", s.min_dihedral_before},
+          {"min_dihedral_after_deg", s.min_dihedral_after},
+          {"operations", {{"flips23", s.flips23}, {"flips32", s.flips32}, {"flips44", s.flips44},
+                          {"edge_removals_5_to_7", s.edge_removals}, {"smoothed_interior", s.smoothed_interior},
+                          {"smoothed_surface", s.smoothed_surface}, {"smoothed_feature", s.smoothed_feature}}},
+          {"tets_before", {{"under_5_deg", s.before.under5}, {"under_10_deg", s.before.under10},
+                           {"under_15_deg", s.before.under15}}},
+          {"passes", s.passes},
+          {"stopped_by_time_limit", s.stopped_by_time_limit},
+          {"seconds", s.seconds},
+          {"tets_under_5_deg", r.poor.under5},
+          {"tets_under_10_deg", r.poor.under10},
+          {"tets_under_15_deg", r.poor.under15},
+          {"tets_under_15_deg_near_small_input_angle", r.poor.near_small_angle},
+          {"tets_under_15_deg_listed", poor}};
+}
+
 json boundarySnapJson(const SnapReport& s, double diagonal) {
   const BoundarySnapStatistics& snap = s.statistics;
   return {{"max_move", snap.max_move},
@@ -327,11 +361,7 @@ json reportJson(const JobReport& r) {
   report["small_input_angle_limit_deg"] = r.small_input_angle_limit_deg;
   report["seeds_on_boundary"] = r.engine_run.seeds_on_boundary;
   report["boundary_snap"] = boundarySnapJson(r.boundary_snap, r.bbox_diagonal);
-  report["improve"] = {{"min_dihedral_before_deg", r.improve.min_dihedral_before},
-                       {"min_dihedral_after_deg", r.improve.min_dihedral_after},
-                       {"flips23", r.improve.flips23},
-                       {"flips32", r.improve.flips32},
-                       {"passes", r.improve.passes}};
+  report["improve"] = improvementJson(r.improve, r.small_input_angles);
   report["element_order"] = r.element_order;
   if (r.element_order == 2) report["second_order_straight_fallbacks"] = r.second_order_straight_fallbacks;
   report["bbox_diagonal"] = r.bbox_diagonal;

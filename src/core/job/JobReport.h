@@ -17,7 +17,8 @@
 #include "features/InputAngles.h"
 #include "job/JobSpec.h"
 #include "job/MeshSelfCheck.h"
-#include "improve/Flips.h"
+#include "improve/MeshImprovement.h"
+#include "job/PoorElements.h"
 #include "mesh/BoundarySnap.h"
 #include "mesh/InterfaceConstraints.h"
 #include "mesh/InterfaceSplit.h"
@@ -95,6 +96,12 @@ struct SurfaceReport {
 
 std::vector<SurfaceReport> describeSurfaces(const std::vector<MeshSurface>& surfaces, const MaterialNames& names);
 
+struct ImprovementReport {
+  bool enabled = false;  // optimize.improve
+  ImprovementStats stats;
+  PoorElements poor;  // after the stage
+};
+
 struct JobReport {
   std::string version;
   Engine engine = Engine::Thesis;
@@ -108,7 +115,7 @@ struct JobReport {
   double small_input_angle_limit_deg = 0;
   EngineReport engine_run;
   SnapReport boundary_snap;
-  FlipStats improve;  // the flips after the snap, before second order
+  ImprovementReport improve;  // the stage after the snap, before second order
   int element_order = 2;
   int64_t second_order_straight_fallbacks = 0;  // element_order 2 only
   MeshCounts counts;

@@ -480,7 +480,8 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
     if (o.is_boolean()) {
       spec.perturb = spec.exude = o.get<bool>();
     } else if (o.is_object()) {
-      rejectUnknownKeys(o, {"perturb", "exude", "time_limit", "sliver_bound"}, "optimize");
+      rejectUnknownKeys(o, {"perturb", "exude", "improve", "time_limit", "sliver_bound"}, "optimize");
+      if (o.contains("improve")) spec.improve = jobjson::boolean(o["improve"], "optimize.improve");
       if (o.contains("perturb")) spec.perturb = jobjson::boolean(o["perturb"], "optimize.perturb");
       if (o.contains("exude")) spec.exude = jobjson::boolean(o["exude"], "optimize.exude");
       if (o.contains("time_limit")) spec.optimize_time_limit = positiveNumber(o["time_limit"], "optimize.time_limit");

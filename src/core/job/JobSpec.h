@@ -107,6 +107,7 @@ struct JobSpec {
   int element_order = 2;
   bool perturb = true;
   bool exude = true;
+  bool improve = true;  // the improvement stage after the snap (improve/MeshImprovement)
   // No time limit by default: a time-limited optimizer gives machine-dependent meshes.
   double optimize_time_limit = 0;
   double sliver_bound = 10;  // dihedral angle (degrees) perturbation and exudation aim for

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "domain/HierarchicalOracle.h"
+#include "improve/MeshImprovement.h"
 #include "job/EngineRun.h"
 #include "job/FeatureAssembly.h"
 #include "job/InputChecks.h"
@@ -12,6 +13,7 @@
 #include "job/InterfaceSettings.h"
 #include "job/JobReport.h"
 #include "job/MeshSelfCheck.h"
+#include "job/PoorElements.h"
 #include "job/PhaseClock.h"
 #include "job/ResolvedCriteria.h"
 #include "mesh/BoundarySnap.h"
@@ -83,7 +85,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   // After the snap (which moves vertices) and before mid nodes are placed on the final topology.
   control.report("improve", 0);
-  report.improve = improveByFlips(mesh);
+  ImprovementOptions improvement;
+  improvement.time_limit = job.optimize_time_limit;
+  report.improve.enabled = job.improve;
+  if (job.improve) report.improve.stats = improveMesh(mesh, improvement, control);
+  report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle);
   clock.finish("improve");
 
   if (job.element_order == 2) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "Error.h"
+#include "job/PoorElements.h"
 #include "mesh/Topology.h"
 #include "mesh/Writers.h"
 #include "refine/PlanarFacets.h"
@@ -69,9 +70,7 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
       options.small_angle_points.push_back(a.location);
       continue;
     }
-    for (const FeaturePolyline& pl : features.polylines)
-      if (pl.edge == a.edge && pl.source >= 0 && oracle.entries()[pl.source].source->name() == a.input)
-        options.small_angle_curves.push_back(pl.curve);
+    for (int curve : curvesOfSmallAngle(a, features, oracle)) options.small_angle_curves.push_back(curve);
   }
   // Sliver removal (optimize.perturb) starts in the engine: the sliver rule, after T1-T3, lifts the
   // slivers perturbation cannot (next to segment vertices, which it keeps fixed: on the demo

@@ -1,0 +1,124 @@
+#include "improve/EdgeRemoval.h"
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+namespace oraclemesh {
+namespace {
+
+constexpr double kWorst = -std::numeric_limits<double>::infinity();
+
+// The ring of link vertices around ab, ordered so that (a, b, r_i, r_{i+1}) is positive, as
+// every tet of the mesh is. Empty when the tets do not close around the edge.
+std::vector<int64_t> ringAround(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets) {
+  std::vector<std::array<int64_t, 2>> links;
+  const auto& p = mesh.points();
+  for (int64_t t : tets) {
+    std::array<int64_t, 2> cd{-1, -1};
+    int k = 0;
+    for (int64_t v : mesh.tet(t))
+      if (v != a && v != b) cd[k++] = v;
+    if (exactOrientation(p[a], p[b], p[cd[0]], p[cd[1]]) < 0) std::swap(cd[0], cd[1]);
+    links.push_back(cd);
+  }
+  std::vector<int64_t> ring{links.front()[0]};
+  for (size_t step = 0; step < links.size(); ++step) {
+    const auto next = std::find_if(links.begin(), links.end(), [&](const auto& l) { return l[0] == ring.back(); });
+    if (next == links.end()) return {};
+    if (step + 1 == links.size()) return (*next)[1] == ring.front() ? ring : std::vector<int64_t>{};
+    ring.push_back((*next)[1]);
+  }
+  return {};
+}
+
+struct RingTriangulation {
+  const ImprovementMesh& mesh;
+  int64_t a, b;
+  const std::vector<int64_t>& ring;
+  const SizeBound& bound;
+  int n;
+  // best[i][j]: worst quality of the best triangulation of the sub-polygon r_i..r_j; apex[i][j]
+  // the ring index k of the triangle (i, k, j) that achieves it.
+  double best[kMaxEdgeRemovalRing][kMaxEdgeRemovalRing];
+  int apex[kMaxEdgeRemovalRing][kMaxEdgeRemovalRing];
+
+  // The two tets over triangle (i, k, j), i < k < j: the ring runs clockwise seen from a.
+  std::array<TetCorners, 2> tetsOver(int i, int k, int j) const {
+    return {TetCorners{ring[i], ring[j], ring[k], a}, TetCorners{ring[i], ring[k], ring[j], b}};
+  }
+
+  double triangleQuality(int i, int k, int j) const {
+    const auto& p = mesh.points();
+    double q = std::numeric_limits<double>::infinity();
+    for (const TetCorners& t : tetsOver(i, k, j)) {
+      if (exactOrientation(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) <= 0) return kWorst;
+      if (!bound.admits(tetSize(p[t[0]], p[t[1]], p[t[2]], p[t[3]]))) return kWorst;
+      q = std::min(q, smallestDihedral(p, t));
+    }
+    return q;
+  }
+
+  double solve() {
+    for (int i = 0; i + 1 < n; ++i) best[i][i + 1] = std::numeric_limits<double>::infinity();
+    for (int span = 2; span < n; ++span)
+      for (int i = 0; i + span < n; ++i) {
+        const int j = i + span;
+        best[i][j] = kWorst;
+        apex[i][j] = -1;
+        for (int k = i + 1; k < j; ++k) {
+          const double q = std::min({best[i][k], best[k][j], triangleQuality(i, k, j)});
+          if (q > best[i][j]) {
+            best[i][j] = q;
+            apex[i][j] = k;
+          }
+        }
+      }
+    return best[0][n - 1];
+  }
+
+  void collect(int i, int j, std::vector<TetCorners>& out, std::vector<std::array<int64_t, 2>>& diagonals) const {
+    if (j - i < 2) return;
+    const int k = apex[i][j];
+    for (const TetCorners& t : tetsOver(i, k, j)) out.push_back(t);
+    if (k - i >= 2) diagonals.push_back({ring[i], ring[k]});
+    if (j - k >= 2) diagonals.push_back({ring[k], ring[j]});
+    collect(i, k, out, diagonals);
+    collect(k, j, out, diagonals);
+  }
+};
+
+}  // namespace
+
+int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
+  if (mesh.isProtectedEdge(a, b)) return 0;
+  const std::vector<int64_t> tets = mesh.tetsAroundEdge(a, b);
+  const int n = static_cast<int>(tets.size());
+  if (n < 3 || n > kMaxEdgeRemovalRing) return 0;
+  const int material = mesh.material(tets.front());
+  double before = std::numeric_limits<double>::infinity();
+  SizeBound bound;
+  const auto& p = mesh.points();
+  for (int64_t t : tets) {
+    if (mesh.material(t) != material) return 0;
+    const TetCorners& c = mesh.tet(t);
+    before = std::min(before, mesh.quality(t));
+    bound.include(tetSize(p[c[0]], p[c[1]], p[c[2]], p[c[3]]));
+    for (int64_t v : c)
+      if (v != a && v != b && mesh.isProtectedFace(a, b, v)) return 0;
+  }
+  const std::vector<int64_t> ring = ringAround(mesh, a, b, tets);
+  if (static_cast<int>(ring.size()) != n) return 0;
+  RingTriangulation triangulation{mesh, a, b, ring, bound, n, {}, {}};
+  if (!(triangulation.solve() > before)) return 0;
+  std::vector<TetCorners> made;
+  std::vector<std::array<int64_t, 2>> diagonals;
+  triangulation.collect(0, n - 1, made, diagonals);
+  // A diagonal that is already an edge elsewhere would be a second copy of it.
+  for (const auto& d : diagonals)
+    if (mesh.hasEdge(d[0], d[1])) return 0;
+  mesh.replace(tets, made, material);
+  return n;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,22 @@
+#pragma once
+// Edge removal (Shewchuk 2002, "Two discrete optimization algorithms for the topological
+// improvement of tetrahedral meshes"; Klingner and Shewchuk 2007): the n tets around an
+// interior edge ab (n = 3..7, one material, a closed ring r_0..r_{n-1}) are replaced by the
+// 2(n-2) tets that join a triangulation of the ring to a and to b. The triangulation is the
+// one whose worst tet is best, found by dynamic programming over the ring's sub-polygons.
+// n = 3 is the 3-2 flip, n = 4 the 4-4 flip.
+#include <cstdint>
+
+#include "improve/ImprovementMesh.h"
+
+namespace oraclemesh {
+
+inline constexpr int kMaxEdgeRemovalRing = 7;
+
+// Removes edge ab when that raises the smallest dihedral angle of the tets around it, every
+// new tet is positively oriented (exact predicate) and within the size of the worst old one.
+// Never removes a feature edge, an edge on a boundary or interface triangle, or an edge whose
+// tets are of several materials. Returns the ring size when removed, else 0.
+int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b);
+
+}  // namespace oraclemesh

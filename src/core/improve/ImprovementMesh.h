@@ -1,0 +1,91 @@
+#pragma once
+// The tetrahedral mesh as the improvement operations change it: tets that can be removed and
+// added, each vertex's tets, the faces and edges no operation may remove, and how far each
+// vertex may move. It works on a copy of the tets and in place on the points of a linear
+// TetMesh; writeBack puts the surviving and new tets back in a deterministic order.
+#include <array>
+#include <cstdint>
+#include <unordered_set>
+#include <vector>
+
+#include "improve/TetShape.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+// How a vertex may move without leaving its place in the model.
+enum class VertexFreedom {
+  Fixed,   // corners, curved surfaces and curves, vertices of several interfaces
+  Free,    // interior of one material
+  Planar,  // inside a planar patch of the boundary: in that plane
+  Linear,  // inside a straight feature curve: along its line
+};
+
+struct VertexMobility {
+  VertexFreedom freedom = VertexFreedom::Fixed;
+  Point3 axis{};  // unit normal of the plane (Planar) or direction of the line (Linear)
+  // What bounds the move besides the tets: the boundary triangles at the vertex (Planar), whose
+  // circumradius the facet size bounds, or the two ends of its feature edges (Linear), whose
+  // length the edge size bounds.
+  std::vector<std::array<int64_t, 3>> boundary_triangles;
+  std::array<int64_t, 2> feature_neighbours{-1, -1};
+};
+
+class ImprovementMesh {
+ public:
+  explicit ImprovementMesh(TetMesh& mesh);
+
+  std::vector<Point3>& points() { return points_; }
+  const std::vector<Point3>& points() const { return points_; }
+  const TetCorners& tet(int64_t t) const { return tets_[t]; }
+  int material(int64_t t) const { return materials_[t]; }
+  bool alive(int64_t t) const { return alive_[t]; }
+  int64_t tetSlots() const { return static_cast<int64_t>(tets_.size()); }
+  const std::vector<int64_t>& tetsOf(int64_t v) const { return vertex_tets_[v]; }
+  const VertexMobility& mobility(int64_t v) const { return mobility_[v]; }
+
+  // Alive tets having both ends of the edge / all three corners of the face.
+  std::vector<int64_t> tetsAroundEdge(int64_t a, int64_t b) const;
+  std::vector<int64_t> tetsWithFace(int64_t a, int64_t b, int64_t c) const;
+  bool hasEdge(int64_t a, int64_t b) const;
+
+  bool isProtectedEdge(int64_t a, int64_t b) const;  // a feature edge (constrained subsegment)
+  bool isProtectedFace(int64_t a, int64_t b, int64_t c) const;  // a boundary or interface triangle
+
+  double quality(int64_t t) const { return smallestDihedral(points_, tets_[t]); }
+
+  // When the neighbourhood of a vertex last changed (a tet of it replaced, it or a neighbour
+  // moved), on a counter of changes: lets the driver skip what it tried since.
+  int64_t changedAt(int64_t v) const { return changed_at_[v]; }
+  int64_t now() const { return clock_; }
+  // Marks v and every vertex of its tets changed (after moving v).
+  void markMoved(int64_t v);
+
+  // Removes `old` and adds `made` (all of `material`); returns the new tets' indices.
+  std::vector<int64_t> replace(const std::vector<int64_t>& old, const std::vector<TetCorners>& made, int material);
+
+  // The alive tets in index order (originals first, then the ones the operations made).
+  void writeBack(TetMesh& mesh) const;
+
+ private:
+  struct KeyHash {
+    size_t operator()(const std::array<int64_t, 3>& k) const {
+      return static_cast<size_t>(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
+    }
+  };
+  static std::array<int64_t, 3> faceKey(int64_t a, int64_t b, int64_t c);
+  void classifyVertices(const TetMesh& mesh);
+
+  std::vector<Point3>& points_;
+  std::vector<TetCorners> tets_;
+  std::vector<int> materials_;
+  std::vector<char> alive_;
+  std::vector<std::vector<int64_t>> vertex_tets_;
+  std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_faces_;
+  std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_edges_;  // (a, b, -1), a < b
+  std::vector<VertexMobility> mobility_;
+  std::vector<int64_t> changed_at_;
+  int64_t clock_ = 0;
+};
+
+}  // namespace oraclemesh

@@ -1,0 +1,164 @@
+#include "improve/MeshImprovement.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "improve/EdgeRemoval.h"
+#include "improve/FaceRemoval.h"
+#include "improve/ImprovementMesh.h"
+#include "improve/Smoothing.h"
+#include "mesh/Quality.h"
+
+namespace oraclemesh {
+namespace {
+
+constexpr int kEdgeCorners[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+double meshMinDihedral(const TetMesh& mesh) {
+  double m = 180;
+  for (const auto& t : mesh.tets) m = std::min(m, smallestDihedral(mesh.points, t));
+  return mesh.tets.empty() ? 0 : m;
+}
+
+PoorTetCounts countPoorTets(const TetMesh& mesh) {
+  PoorTetCounts c;
+  for (const auto& t : mesh.tets) {
+    const double q = smallestDihedral(mesh.points, t);
+    c.under5 += q < 5;
+    c.under10 += q < 10;
+    c.under15 += q < 15;
+  }
+  return c;
+}
+
+// Alive tets under the goal, worst first, ties by index.
+std::vector<std::pair<double, int64_t>> worstFirst(const ImprovementMesh& mesh, double goal) {
+  std::vector<std::pair<double, int64_t>> order;
+  for (int64_t t = 0; t < mesh.tetSlots(); ++t)
+    if (mesh.alive(t)) {
+      const double q = mesh.quality(t);
+      if (q < goal) order.push_back({q, t});
+    }
+  std::sort(order.begin(), order.end());
+  return order;
+}
+
+class Driver {
+ public:
+  Driver(ImprovementMesh& mesh, const ImprovementOptions& options, const RunControl& control, ImprovementStats& stats)
+      : mesh_(mesh), options_(options), control_(control), stats_(stats), start_(std::chrono::steady_clock::now()),
+        vertex_tried_(mesh.points().size(), -1) {}
+
+  // A tet tried before is tried again only when something around one of its corners changed.
+  bool changedSinceTried(int64_t t) const {
+    if (t >= static_cast<int64_t>(tet_tried_.size()) || tet_tried_[t] < 0) return true;
+    for (int64_t v : mesh_.tet(t))
+      if (mesh_.changedAt(v) > tet_tried_[t]) return true;
+    return false;
+  }
+
+  bool outOfTime() {
+    if (++operations_ % 256 == 0) control_.checkpoint();
+    if (options_.time_limit <= 0) return false;
+    if (elapsed() <= options_.time_limit) return false;
+    stats_.stopped_by_time_limit = true;
+    return true;
+  }
+
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  // Edge removal on the tet's edges, those at its most extreme dihedral angles first (a
+  // sliver's small angles and a cap's large one), else a 2-3 flip on one of its faces.
+  int64_t topologicalSweep() {
+    int64_t changes = 0;
+    for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
+      if (!mesh_.alive(t) || !changedSinceTried(t)) continue;
+      if (outOfTime()) break;
+      const TetCorners c = mesh_.tet(t);
+      if (static_cast<int64_t>(tet_tried_.size()) < mesh_.tetSlots()) tet_tried_.resize(mesh_.tetSlots(), -1);
+      tet_tried_[t] = mesh_.now();
+      const auto& p = mesh_.points();
+      const auto angles = dihedralAngles(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
+      int edges[6] = {0, 1, 2, 3, 4, 5};
+      std::stable_sort(edges, edges + 6, [&](int x, int y) {
+        return std::abs(angles[x] - 90) > std::abs(angles[y] - 90);
+      });
+      bool done = false;
+      for (int e : edges) {
+        const int ring = removeEdge(mesh_, c[kEdgeCorners[e][0]], c[kEdgeCorners[e][1]]);
+        if (ring == 0) continue;
+        (ring == 3 ? stats_.flips32 : ring == 4 ? stats_.flips44 : stats_.edge_removals)++;
+        done = true;
+        break;
+      }
+      for (int f = 0; f < 4 && !done; ++f)
+        if (removeFace(mesh_, c[(f + 1) % 4], c[(f + 2) % 4], c[(f + 3) % 4])) {
+          ++stats_.flips23;
+          done = true;
+        }
+      changes += done;
+    }
+    return changes;
+  }
+
+  // Each vertex of a tet under the goal, once per pass, worst tet first.
+  int64_t smoothingSweep() {
+    int64_t changes = 0;
+    std::vector<char> visited(mesh_.points().size(), 0);
+    for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
+      if (!mesh_.alive(t)) continue;
+      for (int64_t v : mesh_.tet(t)) {
+        if (visited[v]) continue;
+        visited[v] = 1;
+        if (vertex_tried_[v] >= mesh_.changedAt(v)) continue;  // nothing near it changed since
+        vertex_tried_[v] = mesh_.now();
+        if (outOfTime()) return changes;
+        if (!smoothVertex(mesh_, v)) continue;
+        ++changes;
+        switch (mesh_.mobility(v).freedom) {
+          case VertexFreedom::Free: ++stats_.smoothed_interior; break;
+          case VertexFreedom::Planar: ++stats_.smoothed_surface; break;
+          default: ++stats_.smoothed_feature; break;
+        }
+      }
+    }
+    return changes;
+  }
+
+ private:
+  ImprovementMesh& mesh_;
+  const ImprovementOptions& options_;
+  const RunControl& control_;
+  ImprovementStats& stats_;
+  std::chrono::steady_clock::time_point start_;
+  int64_t operations_ = 0;
+  std::vector<int64_t> tet_tried_;     // clock when each tet was last tried, -1 never
+  std::vector<int64_t> vertex_tried_;  // same for smoothing each vertex
+};
+
+}  // namespace
+
+ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control) {
+  ImprovementStats stats;
+  ImprovementMesh work(mesh);
+  stats.min_dihedral_before = meshMinDihedral(mesh);
+  stats.before = countPoorTets(mesh);
+  Driver driver(work, options, control, stats);
+  for (int pass = 0; pass < options.max_passes && !stats.stopped_by_time_limit; ++pass) {
+    ++stats.passes;
+    const int64_t changes = driver.topologicalSweep() + driver.smoothingSweep();
+    if (changes == 0) break;
+  }
+  work.writeBack(mesh);
+  stats.min_dihedral_after = meshMinDihedral(mesh);
+  stats.after = countPoorTets(mesh);
+  stats.seconds = driver.elapsed();
+  return stats;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,46 @@
+#pragma once
+// The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, 2-3 flips)
+// and vertex smoothing, worst tet first, repeated in passes. Every operation raises the
+// smallest dihedral angle of the tets it replaces or moves, so the mesh is the best so far
+// after each one and can be stopped anywhere. It runs on the final linear mesh of either
+// engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
+// boundary and interface triangle, every feature edge, each tet's material, per-material
+// volumes (vertices move only inside planar patches and along straight curves), and the size
+// criteria (no new tet bigger in circumradius or radius-edge ratio than the worst it replaces).
+#include <cstdint>
+
+#include "RunControl.h"
+#include "mesh/TetMesh.h"
+
+namespace oraclemesh {
+
+struct ImprovementOptions {
+  double goal_deg = 20;   // tets whose smallest dihedral angle is below it are worked on
+  int max_passes = 8;     // the deterministic work bound; a pass that changes nothing ends it
+  double time_limit = 0;  // seconds, 0 = none (a wall-time stop makes the mesh machine-dependent)
+};
+
+struct PoorTetCounts {
+  int64_t under5 = 0, under10 = 0, under15 = 0;  // tets by smallest dihedral angle, degrees
+};
+
+struct ImprovementStats {
+  double min_dihedral_before = 0;  // degrees
+  double min_dihedral_after = 0;
+  PoorTetCounts before, after;
+  int64_t flips23 = 0;
+  int64_t flips32 = 0;           // edge removal with a ring of 3
+  int64_t flips44 = 0;           // ring of 4
+  int64_t edge_removals = 0;     // rings of 5 to 7
+  int64_t smoothed_interior = 0;
+  int64_t smoothed_surface = 0;  // in a planar patch
+  int64_t smoothed_feature = 0;  // along a straight curve
+  int passes = 0;
+  bool stopped_by_time_limit = false;
+  double seconds = 0;
+};
+
+// Rejects second-order meshes (mid nodes would be stale). Checks `control` for cancellation.
+ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control);
+
+}  // namespace oraclemesh

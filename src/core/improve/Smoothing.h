@@ -1,0 +1,19 @@
+#pragma once
+// Optimisation-based vertex smoothing (after Freitag and Ollivier-Gooch 1997, as Klingner and
+// Shewchuk 2007 use it): a vertex moves to raise the smallest dihedral angle of its tets, by
+// line searches along the ascent direction of that worst angle. Interior vertices move
+// freely; vertices inside a planar boundary patch move in its plane and vertices inside a
+// straight feature curve along its line (so each stays on its CAD face or edge and no
+// material gains or loses volume); all others stay.
+#include <cstdint>
+
+#include "improve/ImprovementMesh.h"
+
+namespace oraclemesh {
+
+// Moves vertex v when that strictly raises the smallest dihedral angle of its tets, keeps
+// every one of them positively oriented (exact predicate) and none bigger than the worst of
+// them before. Returns whether it moved.
+bool smoothVertex(ImprovementMesh& mesh, int64_t v);
+
+}  // namespace oraclemesh

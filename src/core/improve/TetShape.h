@@ -1,0 +1,40 @@
+#pragma once
+// The measures every improvement operation judges a tetrahedron by: its exact orientation,
+// its smallest dihedral angle (the quality the stage raises) and its size (circumradius and
+// radius-edge ratio, which an operation may not make worse than the worst tet it replaces, so
+// cells that met the engine's size criteria still meet them).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "Geometry.h"
+
+namespace oraclemesh {
+
+using TetCorners = std::array<int64_t, 4>;
+
+// Sign of (b-a)x(c-a).(d-a), exact (CGAL's filtered predicate): +1, 0 or -1.
+int exactOrientation(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
+// Smallest of the six dihedral angles, degrees.
+double smallestDihedral(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+double smallestDihedral(const std::vector<Point3>& points, const TetCorners& t);
+
+struct TetSize {
+  double circumradius = 0;
+  double radius_edge_ratio = 0;
+};
+
+TetSize tetSize(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
+// The largest circumradius and ratio of a set of tets: the bound new tets must stay within.
+struct SizeBound {
+  double circumradius = 0;
+  double radius_edge_ratio = 0;
+  void include(const TetSize& s);
+  bool admits(const TetSize& s) const {
+    return s.circumradius <= circumradius && s.radius_edge_ratio <= radius_edge_ratio;
+  }
+};
+
+}  // namespace oraclemesh

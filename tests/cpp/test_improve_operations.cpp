@@ -1,0 +1,376 @@
+// The operations of src/core/improve on hand-built configurations. Flips: three points a, b, c
+// on the unit circle in z = 0 and two apexes d = (0,0,h), e = (0,0,-h). At h = 0.2 the two
+// tets abcd, abce are flat (21.8 degrees) and the three around de are better (43.6); at h = 1
+// the three around de (39.2) are worse than the two (63.4). Edge removal: five or six points on
+// the unit circle around the axis de. Smoothing: a fan over a planar boundary patch.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "RunControl.h"
+#include "improve/EdgeRemoval.h"
+#include "improve/FaceRemoval.h"
+#include "improve/ImprovementMesh.h"
+#include "improve/MeshImprovement.h"
+#include "improve/Smoothing.h"
+#include "improve/TetShape.h"
+#include "mesh/Quality.h"
+#include "mesh_checks.h"
+#include "mesh_fixtures.h"
+
+namespace oraclemesh {
+namespace {
+
+constexpr int64_t A = 0, B = 1, C = 2, D = 3, E = 4;
+
+void orientAll(TetMesh& m) {
+  for (auto& t : m.tets)
+    if (test::orientation(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0) std::swap(t[0], t[1]);
+}
+
+// Apexes at (0, 0, h) and (0, 0, -h), then ring points (angle around the axis, distance from
+// it, height) in counter-clockwise order; tets around the axis. The boundary is every tet face
+// without the axis, of material 1 against the outside.
+struct RingPoint {
+  double angle, radius, z;
+};
+
+TetMesh ringAroundAxis(double h, const std::vector<RingPoint>& ring) {
+  TetMesh m;
+  m.points = {{0, 0, h}, {0, 0, -h}};
+  for (const RingPoint& r : ring) m.points.push_back({r.radius * std::cos(r.angle), r.radius * std::sin(r.angle), r.z});
+  const int64_t n = static_cast<int64_t>(ring.size());
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t r = 2 + i, s = 2 + (i + 1) % n;
+    m.tets.push_back({0, 1, r, s});
+    m.tet_materials.push_back(1);
+    m.boundary.push_back({{0, r, s}, 1, 0});
+    m.boundary.push_back({{1, r, s}, 1, 0});
+  }
+  orientAll(m);
+  m.vertex_dimension.assign(m.points.size(), 2);
+  m.vertex_curve.assign(m.points.size(), -1);
+  return m;
+}
+
+// Regular rings of n around an axis of 2h.
+TetMesh ringAroundAxis(int n, double h) {
+  std::vector<RingPoint> ring;
+  for (int i = 0; i < n; ++i) ring.push_back({2 * M_PI * i / n, 1, 0});
+  return ringAroundAxis(h, ring);
+}
+
+// Rings (found by a random search) with a sliver around the axis that edge removal lifts:
+// five points, 4.2 -> 40.7 degrees; four points, 4.0 -> 47.9 degrees.
+TetMesh ringOfFiveWithSliver() {
+  return ringAroundAxis(1.2, {{1.4, 0.5, 0.1}, {1.5, 1.5, 0.3}, {2.0, 1.2, 0.2}, {3.2, 0.5, 0.0}, {5.9, 0.8, 0.1}});
+}
+
+TetMesh ringOfFourWithSliver() {
+  return ringAroundAxis(1.9, {{1.2, 0.5, 0.0}, {2.0, 1.4, 0.0}, {3.2, 0.9, 0.2}, {4.5, 0.7, 0.0}});
+}
+
+void setPoints(TetMesh& m, double h) {
+  const double s = std::sqrt(3.0) / 2;
+  m.points = {{1, 0, 0}, {-0.5, s, 0}, {-0.5, -s, 0}, {0, 0, h}, {0, 0, -h}};
+  m.vertex_dimension.assign(5, 2);
+  m.vertex_curve.assign(5, -1);
+}
+
+// The hull of the five points: six triangles, all on the outer boundary of material `mat`.
+void addHull(TetMesh& m, int mat) {
+  for (const auto& f : {std::array<int64_t, 3>{A, B, D}, {B, C, D}, {C, A, D}, {A, B, E}, {B, C, E}, {C, A, E}})
+    m.boundary.push_back({f, mat, 0});
+}
+
+TetMesh twoTets(double h, int mat_d = 1, int mat_e = 1) {
+  TetMesh m;
+  setPoints(m, h);
+  m.tets = {{A, B, C, D}, {A, B, C, E}};
+  m.tet_materials = {mat_d, mat_e};
+  orientAll(m);
+  addHull(m, 1);
+  return m;
+}
+
+TetMesh threeTets(double h) {
+  TetMesh m;
+  setPoints(m, h);
+  m.tets = {{D, E, A, B}, {D, E, B, C}, {D, E, C, A}};
+  m.tet_materials = {1, 1, 1};
+  orientAll(m);
+  addHull(m, 1);
+  return m;
+}
+
+double minDihedralOf(const TetMesh& m) {
+  double lo = 180;
+  for (const auto& t : m.tets) {
+    const auto a = dihedralAngles(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
+    lo = std::min(lo, *std::min_element(a.begin(), a.end()));
+  }
+  return lo;
+}
+
+bool hasEdge(const TetMesh& m, int64_t u, int64_t v) {
+  for (const auto& t : m.tets)
+    if (std::count(t.begin(), t.end(), u) && std::count(t.begin(), t.end(), v)) return true;
+  return false;
+}
+
+void expectValid(const TetMesh& before, const TetMesh& after) {
+  for (const auto& t : after.tets)
+    EXPECT_GT(test::orientation(after.points[t[0]], after.points[t[1]], after.points[t[2]], after.points[t[3]]), 0);
+  const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
+  ASSERT_EQ(vb.size(), va.size());
+  for (const auto& [mat, vol] : vb) EXPECT_NEAR(va.at(mat), vol, 1e-9 * vol) << "material " << mat;
+  // Each boundary triangle is still a face of exactly one tet.
+  for (const auto& b : after.boundary) {
+    int owners = 0;
+    for (const auto& t : after.tets)
+      owners += std::count(t.begin(), t.end(), b.v[0]) && std::count(t.begin(), t.end(), b.v[1]) &&
+                std::count(t.begin(), t.end(), b.v[2]);
+    EXPECT_EQ(owners, 1);
+  }
+  EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
+}
+
+// A goal above every configuration here, so each is worked on.
+ImprovementStats improve(TetMesh& m) {
+  ImprovementOptions options;
+  options.goal_deg = 70;
+  return improveMesh(m, options, RunControl());
+}
+
+TEST(ImproveShape, SmallestDihedralIsTheSmallestOfTheSix) {
+  uint64_t state = 12345;
+  auto next = [&] { return (state = state * 6364136223846793005ULL + 1442695040888963407ULL) / 18446744073709551616.0; };
+  for (int trial = 0; trial < 2000; ++trial) {
+    Point3 p[4];
+    for (auto& q : p) q = {next(), next(), next()};
+    if (trial % 3 == 0) p[3] = p[0] + 0.3 * (p[1] - p[0]) + 0.4 * (p[2] - p[0]) + Point3{0, 0, 1e-7 * next()};
+    const auto angles = dihedralAngles(p[0], p[1], p[2], p[3]);
+    const double expected = *std::min_element(angles.begin(), angles.end());
+    EXPECT_NEAR(smallestDihedral(p[0], p[1], p[2], p[3]), expected, 1e-9 + 1e-9 * expected) << trial;
+  }
+}
+
+TEST(ImproveFlips, TwoThreeFlipFixesFlatPair) {
+  const TetMesh before = twoTets(0.2);
+  TetMesh m = before;
+  const ImprovementStats s = improve(m);
+  EXPECT_EQ(s.flips23, 1);
+  EXPECT_EQ(m.tets.size(), 3u);
+  EXPECT_NEAR(s.min_dihedral_before, 21.80, 0.01);
+  EXPECT_NEAR(s.min_dihedral_after, 43.60, 0.01);
+  EXPECT_NEAR(minDihedralOf(m), s.min_dihedral_after, 1e-12);
+  EXPECT_TRUE(hasEdge(m, D, E));
+  expectValid(before, m);
+}
+
+TEST(ImproveFlips, ThreeTwoFlipRemovesLongInteriorEdge) {
+  const TetMesh before = threeTets(1.0);
+  TetMesh m = before;
+  const ImprovementStats s = improve(m);
+  EXPECT_EQ(s.flips32, 1);
+  EXPECT_EQ(m.tets.size(), 2u);
+  EXPECT_GT(s.min_dihedral_after, s.min_dihedral_before + 20);
+  EXPECT_FALSE(hasEdge(m, D, E));
+  expectValid(before, m);
+}
+
+TEST(ImproveFlips, NoFlipWhenItWouldNotImprove) {
+  for (TetMesh m : {twoTets(1.0), threeTets(0.2)}) {
+    const TetMesh before = m;
+    const ImprovementStats s = improve(m);
+    EXPECT_EQ(s.flips23 + s.flips32, 0);
+    EXPECT_EQ(m.tets, before.tets);
+  }
+}
+
+TEST(ImproveFlips, InterfaceBetweenMaterialsIsNotFlipped) {
+  TetMesh m = twoTets(0.2, 1, 2);
+  m.boundary.push_back({{A, B, C}, 1, 2});  // the interface face abc
+  const TetMesh before = m;
+  const ImprovementStats s = improve(m);
+  EXPECT_EQ(s.flips23, 0);
+  EXPECT_EQ(m.tets, before.tets);
+  EXPECT_EQ(m.tet_materials, before.tet_materials);
+}
+
+TEST(ImproveFlips, FlipThatWouldInvertIsRefused) {
+  // Apexes off-axis beyond the edge bc: segment de no longer pierces triangle abc, so the 2-3
+  // flip would make an inverted tet, although the flat pair would gain from it otherwise.
+  TetMesh m = twoTets(0.2);
+  m.points[D] = {-1.5, 0, 0.2};
+  m.points[E] = {-1.5, 0, -0.2};
+  orientAll(m);
+  const TetMesh before = m;
+  ImprovementMesh work(m);
+  EXPECT_FALSE(removeFace(work, A, B, C));
+  EXPECT_FALSE(removeFace(work, A, C, B));
+  const ImprovementStats s = improve(m);
+  EXPECT_EQ(s.flips23, 0);
+  EXPECT_EQ(m.tets, before.tets);
+}
+
+// Removing the axis of five tets gives six (three triangles of the ring, each joined to both
+// apexes).
+TEST(ImproveEdgeRemoval, RingOfFiveKeepsVolumeAndOrientation) {
+  const TetMesh before = ringOfFiveWithSliver();
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  const double q0 = minDihedralOf(m);
+  ASSERT_EQ(removeEdge(work, 0, 1), 5);
+  work.writeBack(m);
+  EXPECT_EQ(m.tets.size(), 6u);
+  EXPECT_FALSE(hasEdge(m, 0, 1));
+  EXPECT_NEAR(q0, 4.2, 0.05);
+  EXPECT_NEAR(minDihedralOf(m), 40.7, 0.05);
+  expectValid(before, m);
+}
+
+TEST(ImproveEdgeRemoval, RingOfFourIsTheFourFourFlip) {
+  const TetMesh before = ringOfFourWithSliver();
+  TetMesh m = before;
+  const ImprovementStats s = improve(m);
+  EXPECT_EQ(s.flips44, 1);
+  EXPECT_FALSE(hasEdge(m, 0, 1));
+  EXPECT_EQ(m.tets.size(), 4u);
+  expectValid(before, m);
+}
+
+TEST(ImproveEdgeRemoval, FeatureEdgeIsNeverRemoved) {
+  for (int n : {3, 4, 5, 6}) {
+    TetMesh m = n == 4 ? ringOfFourWithSliver() : n == 5 ? ringOfFiveWithSliver() : ringAroundAxis(n, 1.0);
+    m.feature_edges = {{1, 0}};
+    m.feature_edge_curves = {0};
+    ImprovementMesh work(m);
+    EXPECT_EQ(removeEdge(work, 0, 1), 0) << n;
+    improve(m);
+    EXPECT_TRUE(hasEdge(m, 0, 1)) << n;
+  }
+}
+
+TEST(ImproveEdgeRemoval, RingOfMixedMaterialsIsKept) {
+  TetMesh m = ringOfFiveWithSliver();
+  m.tet_materials[2] = 2;
+  ImprovementMesh work(m);
+  EXPECT_EQ(removeEdge(work, 0, 1), 0);
+}
+
+// A pyramid over the quadrilateral `base` (counter-clockwise in z = 0) with its apex at
+// (0, 0, 1), fanned from a vertex v of the base: every base triangle is on the boundary.
+TetMesh pyramidFannedFrom(const Point3& v, const std::array<Point3, 4>& base) {
+  TetMesh m;
+  m.points = {v, base[0], base[1], base[2], base[3], {0, 0, 1}};
+  for (int64_t i = 0; i < 4; ++i) {
+    const int64_t r = 1 + i, s = 1 + (i + 1) % 4;
+    m.tets.push_back({0, r, s, 5});
+    m.tet_materials.push_back(1);
+    m.boundary.push_back({{0, s, r}, 1, 0});
+    m.boundary.push_back({{r, s, 5}, 1, 0});
+  }
+  orientAll(m);
+  m.vertex_dimension = {2, 0, 0, 0, 0, 0};
+  m.vertex_curve.assign(6, -1);
+  return m;
+}
+
+// Over the square (+-1, +-1, 0), v off centre at (0.8, 0.1, 0).
+TetMesh fanOverPlanarBase() { return pyramidFannedFrom({0.8, 0.1, 0}, {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}}); }
+
+TEST(ImproveSmoothing, SurfaceVertexStaysInItsPlane) {
+  const TetMesh before = fanOverPlanarBase();
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Planar);
+  EXPECT_EQ(work.mobility(5).freedom, VertexFreedom::Fixed);  // the apex: on four planes
+  const double q0 = minDihedralOf(m);
+  ASSERT_TRUE(smoothVertex(work, 0));
+  EXPECT_EQ(m.points[0][2], 0.0);
+  EXPECT_LT(std::hypot(m.points[0][0], m.points[0][1]), 0.5);  // towards the centre
+  EXPECT_GT(minDihedralOf(m), q0 + 5);
+  for (int64_t v = 1; v < 6; ++v) EXPECT_EQ(m.points[v], before.points[v]);
+  expectValid(before, m);
+}
+
+TEST(ImproveSmoothing, SurfaceVertexOfTwoInterfacesStays) {
+  TetMesh m = fanOverPlanarBase();
+  m.boundary[0].material_out = 2;  // the base triangles meet two other materials at v
+  ImprovementMesh work(m);
+  EXPECT_EQ(work.mobility(0).freedom, VertexFreedom::Fixed);
+  EXPECT_FALSE(smoothVertex(work, 0));
+}
+
+// The same pyramid with a straight feature curve across its base through v, from (-1, 0, 0)
+// to (1, 0, 0), v at (0.7, 0, 0): v may move along the x axis only.
+TEST(ImproveSmoothing, FeatureVertexStaysOnItsLine) {
+  TetMesh m = pyramidFannedFrom({0.7, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
+  m.feature_edges = {{1, 0}, {0, 3}};
+  m.feature_edge_curves = {7, 7};
+  m.vertex_dimension[0] = 1;
+  m.vertex_curve[0] = 7;
+  const TetMesh before = m;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
+  const double q0 = minDihedralOf(m);
+  ASSERT_TRUE(smoothVertex(work, 0));
+  EXPECT_EQ(m.points[0][1], 0.0);
+  EXPECT_EQ(m.points[0][2], 0.0);
+  EXPECT_LT(m.points[0][0], 0.6);
+  EXPECT_GT(minDihedralOf(m), q0);
+  expectValid(before, m);
+}
+
+TEST(ImproveSmoothing, CornerNeverMoves) {
+  TetMesh m = fanOverPlanarBase();
+  m.vertex_dimension[0] = 0;
+  ImprovementMesh work(m);
+  EXPECT_EQ(work.mobility(0).freedom, VertexFreedom::Fixed);
+  EXPECT_FALSE(smoothVertex(work, 0));
+}
+
+// The cube [-1, 1]^3 as twelve tets joining its boundary triangles to an interior vertex v
+// placed off centre: v moves freely, towards the centre, and the volume stays 8.
+TEST(ImproveSmoothing, InteriorVertexMovesFreely) {
+  TetMesh m;
+  for (int i = 0; i < 8; ++i) m.points.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+  m.points.push_back({0.6, 0.2, -0.3});
+  const int64_t v = 8;
+  const int64_t quads[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+  for (const auto& q : quads)
+    for (const auto& f : {std::array<int64_t, 3>{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}) {
+      m.tets.push_back({f[0], f[1], f[2], v});
+      m.tet_materials.push_back(1);
+      m.boundary.push_back({f, 1, 0});
+    }
+  orientAll(m);
+  m.vertex_dimension = {0, 0, 0, 0, 0, 0, 0, 0, 3};
+  m.vertex_curve.assign(9, -1);
+  const TetMesh before = m;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(v).freedom, VertexFreedom::Free);
+  const double q0 = minDihedralOf(m);
+  ASSERT_TRUE(smoothVertex(work, v));
+  EXPECT_LT(norm(m.points[v]), norm(before.points[v]));
+  EXPECT_GT(minDihedralOf(m), q0);
+  expectValid(before, m);
+  EXPECT_NEAR(test::volumePerMaterial(m).at(1), 8.0, 1e-12);
+}
+
+TEST(ImproveDriver, Deterministic) {
+  TetMesh a = ringOfFiveWithSliver(), b = ringOfFiveWithSliver();
+  improve(a);
+  improve(b);
+  EXPECT_EQ(a.tets, b.tets);
+  EXPECT_EQ(a.points, b.points);
+  TetMesh c = fanOverPlanarBase(), d = fanOverPlanarBase();
+  improve(c);
+  improve(d);
+  EXPECT_EQ(c.points, d.points);
+}
+
+}  // namespace
+}  // namespace oraclemesh
