@@ -153,6 +153,12 @@ def test_double_click_histogram_export(gui):
     assert abs(h["worst"] - h["report_min"]) < 1e-6
     # The title counts what a linear axis hid; selecting the worst element zooms the view to it.
     assert h["under_one_degree"] == h["angles_under_one"]
+    # The counts under 5, 10 and 15 degrees (issue 15) are the mesh's own and the core's report's.
+    assert h["poor"] == h["poor_from_angles"]
+    improve = h["report_improve"]
+    assert [h["poor"][b] for b in ("5", "10", "15")] == [
+        improve["tets_under_%s_deg" % b] for b in ("5", "10", "15")], (h["poor"], improve)
+    assert "%d under 15 deg" % h["poor"]["15"] in h["poor_line"]
     zoom = h["zoom"]
     assert zoom["in_front"] and zoom["off_axis"] < 1e-4 * h["model_diagonal"]
     assert zoom["size"] < 0.5 * h["model_diagonal"]

@@ -38,6 +38,26 @@ def element_quality(obj):
     return element_ids, min_dihedral_angles(points, tets), groups
 
 
+# The bounds issue 15 judges meshes by (FEM solvers degrade below them, most below 5).
+POOR_BOUNDS = (5, 10, 15)
+
+
+def poor_counts(angles):
+    """{bound: tetrahedra whose smallest dihedral angle is under it} for POOR_BOUNDS."""
+    return {bound: int(np.count_nonzero(np.asarray(angles) < bound)) for bound in POOR_BOUNDS}
+
+
+def poor_summary(counts, report):
+    """One line for the dialog: the counts, and from the core's report how many of the tets
+    under 15 degrees lie next to a small angle of the input itself (which no mesh can avoid)."""
+    text = ", ".join("%d under %d deg" % (counts[b], b) for b in POOR_BOUNDS)
+    improve = (report or {}).get("improve", {})
+    near = improve.get("tets_under_15_deg_near_small_input_angle")
+    if near is not None and counts[15]:
+        text += "; %d of those under 15 deg lie next to a small input angle (report: improve)" % near
+    return "Tetrahedra: " + text
+
+
 # A bin of its own under 1 degree, then 5-degree bins: the few elements a solver may reject
 # must not vanish next to the thousands of good ones, hence also the logarithmic count axis.
 HISTOGRAM_BINS = [0.0, 1.0] + list(range(5, 91, 5))
@@ -86,6 +106,10 @@ class HistogramDialog:
         picture = QtGui.QLabel()
         picture.setPixmap(QtGui.QPixmap(self.png))
         layout.addWidget(picture)
+        self.poor = poor_counts(self.angles)
+        self.poor_line = QtGui.QLabel(poor_summary(self.poor, self._report()))
+        self.poor_line.setWordWrap(True)
+        layout.addWidget(self.poor_line)
         layout.addWidget(QtGui.QLabel("Worst elements (select to highlight their nodes and zoom to them):"))
         self.worst = QtGui.QTableWidget(0, 3)
         self.worst.setHorizontalHeaderLabels(["Element", "Min dihedral (deg)", "Group"])
@@ -104,6 +128,13 @@ class HistogramDialog:
         close.clicked.connect(self.dialog.close)
         self.dialog.finished.connect(self.clear)
         layout.addWidget(close)
+
+    def _report(self):
+        import json
+        try:
+            return json.loads(self.obj.Report or "{}")
+        except ValueError:
+            return {}
 
     def selected_elements(self):
         return sorted({int(self.worst.item(i.row(), 0).text())

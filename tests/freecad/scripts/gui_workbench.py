@@ -421,7 +421,12 @@ def check(out):
                         "highlighted": len(mesh.ViewObject.HighlightedNodes),
                         "under_one_degree": dialog.under_one_degree,
                         "angles_under_one": int((dialog.angles < 1.0).sum()),
-                        "model_diagonal": mesh.FemMesh.BoundBox.DiagonalLength}
+                        "model_diagonal": mesh.FemMesh.BoundBox.DiagonalLength,
+                        "poor": {str(k): v for k, v in dialog.poor.items()},
+                        "poor_from_angles": {str(b): int((dialog.angles < b).sum()) for b in (5, 10, 15)},
+                        "poor_line": dialog.poor_line.text(),
+                        "report_improve": {k: v for k, v in json.loads(mesh.Report)["improve"].items()
+                                           if k.startswith("tets_under") and not k.endswith("listed")}}
     camera = FreeCADGui.ActiveDocument.ActiveView.getCameraNode()
     if dialog.zoomed is not None:
         centre, size = dialog.zoomed
