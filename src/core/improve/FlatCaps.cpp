@@ -109,7 +109,7 @@ class CapRemoval {
     int64_t changes = 0;
     const int64_t slots = work_.tetSlots();
     for (int64_t t = 0; t < slots; ++t) {
-      if (!work_.alive(t)) continue;
+      if (!work_.alive(t) || !thinEnough(work_.tet(t))) continue;
       const Cap cap = capOf(work_, t);
       if (cap.a < 0 || !isFlat(work_.points(), cap, flatness_)) continue;
       const bool done = cap.across.side == FaceSide::Outer ? removeOuter(t, cap) : flipInterface(t, cap);
@@ -133,6 +133,20 @@ class CapRemoval {
   double volumeOf(const TetCorners& t) const {
     const auto& p = work_.points();
     return tetVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+  }
+
+  // Cheap first look before the face lookups. isFlat puts the corners in a slab of width
+  // w = 2 flatness; the faces facing one way cover the tet's shadow on the slab, at most twice
+  // the largest face, so the volume is at most 2w/3 of the largest face and the height over it
+  // at most 2w.
+  bool thinEnough(const TetCorners& t) const {
+    const auto& p = work_.points();
+    double largest = 0;
+    for (int i = 0; i < 4; ++i) {
+      const Point3 &a = p[t[(i + 1) % 4]], &b = p[t[(i + 2) % 4]], &c = p[t[(i + 3) % 4]];
+      largest = std::max(largest, 0.5 * norm(cross(b - a, c - a)));
+    }
+    return largest > 0 && 3 * volumeOf(t) / largest <= 4 * flatness_;
   }
 
   bool withinVolumeBound(int material, double volume) const {
