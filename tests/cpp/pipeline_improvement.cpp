@@ -22,16 +22,21 @@
 namespace oraclemesh {
 namespace {
 
+// The defaults with sharp edges (30 degrees, junctions), tet4, the stage off.
+JobResult meshWithoutStage(const nlohmann::json& input) {
+  return runJob(JobSpec::fromJson({{"inputs", {input}},
+                                   {"features", {{"sharp_angle_deg", 30}, {"junctions", true}}},
+                                   {"engine", "thesis"},
+                                   {"element_order", 1},
+                                   {"optimize", {{"improve", false}}},
+                                   {"seed", 0}},
+                                  ""),
+                RunControl());
+}
+
 const JobResult& partWithoutStage() {
-  static const JobResult r = runJob(
-      JobSpec::fromJson({{"inputs", {{{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}}}},
-                         {"features", {{"sharp_angle_deg", 30}, {"junctions", true}}},
-                         {"engine", "thesis"},
-                         {"element_order", 1},
-                         {"optimize", {{"improve", false}}},
-                         {"seed", 0}},
-                        ""),
-      RunControl());
+  static const JobResult r =
+      meshWithoutStage({{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}});
   return r;
 }
 
@@ -89,16 +94,8 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
 TEST(ImprovementStage, PresseFlatCapsGoWithSurfacesFeaturesAndVolumesKept) {
   nlohmann::json materials = nlohmann::json::array();
   for (int m = 1; m <= 16; ++m) materials.push_back(m);
-  const JobResult r = runJob(
-      JobSpec::fromJson({{"inputs", {{{"name", "Presse"}, {"file", test::cadDir() + "/presse_asm.step"},
-                                      {"materials", materials}}}},
-                         {"features", {{"sharp_angle_deg", 30}, {"junctions", true}}},
-                         {"engine", "thesis"},
-                         {"element_order", 1},
-                         {"optimize", {{"improve", false}}},
-                         {"seed", 0}},
-                        ""),
-      RunControl());
+  const JobResult r = meshWithoutStage(
+      {{"name", "Presse"}, {"file", test::cadDir() + "/presse_asm.step"}, {"materials", materials}});
   const TetMesh& before = r.mesh;
   TetMesh after = before;
   const ImprovementStats s = improveMesh(after, ImprovementOptions{}, RunControl());
@@ -134,10 +131,7 @@ TEST(ImprovementStage, PresseFlatCapsGoWithSurfacesFeaturesAndVolumesKept) {
   EXPECT_EQ(conformity.open_boundary_edges, 0);
   EXPECT_EQ(conformity.faces_shared_by_more_than_two, 0);
   // mesh.boundary is the boundary of the tets, and every vertex is still in a tet.
-  std::vector<test::Face> listed;
-  for (const BoundaryTriangle& b : after.boundary) listed.push_back(test::sortedFace(b.v[0], b.v[1], b.v[2]));
-  std::sort(listed.begin(), listed.end());
-  EXPECT_EQ(listed, test::boundaryFaces(after));
+  EXPECT_EQ(test::listedBoundaryFaces(after), test::boundaryFaces(after));
   std::vector<char> used(after.points.size(), 0);
   for (const auto& t : after.tets)
     for (int64_t v : t) used[v] = 1;

@@ -9,7 +9,7 @@
 #include "RunControl.h"
 #include "improve/FlatCaps.h"
 #include "improve/MeshImprovement.h"
-#include "mesh/Quality.h"
+#include "improve/TetShape.h"
 #include "mesh/Topology.h"
 #include "mesh_checks.h"
 #include "mesh_fixtures.h"
@@ -55,10 +55,7 @@ bool hasEdge(const TetMesh& m, int64_t u, int64_t v) {
 
 double minDihedralOf(const TetMesh& m) {
   double lo = 180;
-  for (const auto& t : m.tets) {
-    const auto a = dihedralAngles(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]);
-    lo = std::min(lo, *std::min_element(a.begin(), a.end()));
-  }
+  for (const auto& t : m.tets) lo = std::min(lo, smallestDihedral(m.points, t));
   return lo;
 }
 
@@ -70,10 +67,7 @@ void expectConsistent(const TetMesh& before, const TetMesh& after, double bound)
   const ConformityReport c = checkConformity(after);
   EXPECT_EQ(c.open_boundary_edges, 0);
   EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
-  std::vector<test::Face> listed;
-  for (const BoundaryTriangle& b : after.boundary) listed.push_back(test::sortedFace(b.v[0], b.v[1], b.v[2]));
-  std::sort(listed.begin(), listed.end());
-  EXPECT_EQ(listed, test::boundaryFaces(after));
+  EXPECT_EQ(test::listedBoundaryFaces(after), test::boundaryFaces(after));
   const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
   for (const auto& [material, volume] : vb) EXPECT_NEAR(va.at(material), volume, bound * volume) << material;
   EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
