@@ -84,6 +84,15 @@ inline std::vector<Face> boundaryFaces(const TetMesh& m, std::map<Face, std::vec
   return boundary;
 }
 
+// mesh.boundary as sorted faces, in boundaryFaces' order: equal to it when the list is the
+// boundary of the tets (phases that change boundary triangles must rebuild the list).
+inline std::vector<Face> listedBoundaryFaces(const TetMesh& m) {
+  std::vector<Face> listed;
+  for (const BoundaryTriangle& b : m.boundary) listed.push_back(sortedFace(b.v[0], b.v[1], b.v[2]));
+  std::sort(listed.begin(), listed.end());
+  return listed;
+}
+
 inline std::map<std::pair<int64_t, int64_t>, int64_t> midNodeOfEdge(const TetMesh& m) {
   std::map<std::pair<int64_t, int64_t>, int64_t> mid;
   for (size_t t = 0; t < m.tet_mid_nodes.size(); ++t)

@@ -10,8 +10,10 @@
 
 #include "RunControl.h"
 #include "improve/MeshImprovement.h"
+#include "improve/TetShape.h"
 #include "job/Pipeline.h"
 #include "mesh/Quality.h"
+#include "mesh/Topology.h"
 #include "mesh_checks.h"
 #include "mesh_fixtures.h"
 #include "occt_checks.h"
@@ -20,16 +22,21 @@
 namespace oraclemesh {
 namespace {
 
+// The defaults with sharp edges (30 degrees, junctions), tet4, the stage off.
+JobResult meshWithoutStage(const nlohmann::json& input) {
+  return runJob(JobSpec::fromJson({{"inputs", {input}},
+                                   {"features", {{"sharp_angle_deg", 30}, {"junctions", true}}},
+                                   {"engine", "thesis"},
+                                   {"element_order", 1},
+                                   {"optimize", {{"improve", false}}},
+                                   {"seed", 0}},
+                                  ""),
+                RunControl());
+}
+
 const JobResult& partWithoutStage() {
-  static const JobResult r = runJob(
-      JobSpec::fromJson({{"inputs", {{{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}}}},
-                         {"features", {{"sharp_angle_deg", 30}, {"junctions", true}}},
-                         {"engine", "thesis"},
-                         {"element_order", 1},
-                         {"optimize", {{"improve", false}}},
-                         {"seed", 0}},
-                        ""),
-      RunControl());
+  static const JobResult r =
+      meshWithoutStage({{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}});
   return r;
 }
 
@@ -78,6 +85,59 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
     EXPECT_LT(test::distanceToShape(after.points[v], solid->shape()), 1e-9 * diagonal) << v;
   }
   EXPECT_GT(moved, 0);
+}
+
+// presse_asm.step at the defaults as one input of 16 solids. Its flattest tets (1.5e-8
+// degrees) are flat quads between two feature circles on the conical interface of two parts,
+// two faces on the interface; only the flat-cap operations remove them, keeping the
+// interface, every feature edge, the boundary and the volumes.
+TEST(ImprovementStage, PresseFlatCapsGoWithSurfacesFeaturesAndVolumesKept) {
+  nlohmann::json materials = nlohmann::json::array();
+  for (int m = 1; m <= 16; ++m) materials.push_back(m);
+  const JobResult r = meshWithoutStage(
+      {{"name", "Presse"}, {"file", test::cadDir() + "/presse_asm.step"}, {"materials", materials}});
+  const TetMesh& before = r.mesh;
+  TetMesh after = before;
+  const ImprovementStats s = improveMesh(after, ImprovementOptions{}, RunControl());
+  const FlatCapStats& caps = s.flat_caps;
+  // The stage without them, for comparison.
+  TetMesh withoutCaps = before;
+  ImprovementOptions noCaps;
+  noCaps.flat_caps = false;
+  const ImprovementStats w = improveMesh(withoutCaps, noCaps, RunControl());
+  auto nearlyFlat = [](const TetMesh& m) {
+    return std::count_if(m.tets.begin(), m.tets.end(),
+                         [&](const auto& t) { return smallestDihedral(m.points, t) < 1e-6; });
+  };
+  std::cout << "[ figures  ] presse stage: min dihedral " << s.min_dihedral_before << " -> " << s.min_dihedral_after
+            << " (without flat caps " << w.min_dihedral_after << "), under 5/10/15 deg " << s.before.under5 << "/"
+            << s.before.under10 << "/" << s.before.under15 << " -> " << s.after.under5 << "/" << s.after.under10 << "/"
+            << s.after.under15 << " (without " << w.after.under5 << "/" << w.after.under10 << "/" << w.after.under15
+            << "), under 1e-6 deg " << nearlyFlat(before) << " -> " << nearlyFlat(after) << " (without "
+            << nearlyFlat(withoutCaps) << "), flat caps removed " << caps.boundary_caps_removed << ", flipped "
+            << caps.interface_caps_flipped << ", kept " << caps.caps_kept << ", volume moved "
+            << caps.largest_volume_change << ", " << s.seconds << " s (without " << w.seconds << " s)\n";
+  EXPECT_GT(caps.interface_caps_flipped, 0);
+  EXPECT_LT(nearlyFlat(after), nearlyFlat(withoutCaps));
+  EXPECT_LE(caps.largest_volume_change, 1e-9);
+  EXPECT_GE(s.min_dihedral_after, s.min_dihedral_before);
+  EXPECT_LT(s.after.under5, s.before.under5);
+
+  EXPECT_EQ(after.feature_edges, before.feature_edges);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
+  for (const auto& t : after.tets)
+    EXPECT_GT(test::orientation(after.points[t[0]], after.points[t[1]], after.points[t[2]], after.points[t[3]]), 0);
+  const ConformityReport conformity = checkConformity(after);
+  EXPECT_EQ(conformity.open_boundary_edges, 0);
+  EXPECT_EQ(conformity.faces_shared_by_more_than_two, 0);
+  // mesh.boundary is the boundary of the tets, and every vertex is still in a tet.
+  EXPECT_EQ(test::listedBoundaryFaces(after), test::boundaryFaces(after));
+  std::vector<char> used(after.points.size(), 0);
+  for (const auto& t : after.tets)
+    for (int64_t v : t) used[v] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
+  const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
+  for (const auto& [material, volume] : vb) EXPECT_NEAR(va.at(material), volume, 1e-9 * volume) << material;
 }
 
 TEST(ImprovementStage, SameMeshTwice) {

@@ -90,6 +90,24 @@ struct RingTriangulation {
 
 }  // namespace
 
+double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                           const SizeBound& bound, std::vector<TetCorners>& made) {
+  const int n = static_cast<int>(tets.size());
+  if (n < 3 || n > kMaxEdgeRemovalRing) return kWorst;
+  const std::vector<int64_t> ring = ringAround(mesh, a, b, tets);
+  if (static_cast<int>(ring.size()) != n) return kWorst;
+  RingTriangulation triangulation{mesh, a, b, ring, bound, n, {}, {}};
+  const double worst = triangulation.solve();
+  if (worst == kWorst) return kWorst;
+  std::vector<std::array<int64_t, 2>> diagonals;
+  made.clear();
+  triangulation.collect(0, n - 1, made, diagonals);
+  // A diagonal that is already an edge elsewhere would be a second copy of it.
+  for (const auto& d : diagonals)
+    if (mesh.hasEdge(d[0], d[1])) return kWorst;
+  return worst;
+}
+
 int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
   if (mesh.isProtectedEdge(a, b)) return 0;
   const std::vector<int64_t> tets = mesh.tetsAroundEdge(a, b);
@@ -107,16 +125,8 @@ int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
     for (int64_t v : c)
       if (v != a && v != b && mesh.isProtectedFace(a, b, v)) return 0;
   }
-  const std::vector<int64_t> ring = ringAround(mesh, a, b, tets);
-  if (static_cast<int>(ring.size()) != n) return 0;
-  RingTriangulation triangulation{mesh, a, b, ring, bound, n, {}, {}};
-  if (!(triangulation.solve() > before)) return 0;
   std::vector<TetCorners> made;
-  std::vector<std::array<int64_t, 2>> diagonals;
-  triangulation.collect(0, n - 1, made, diagonals);
-  // A diagonal that is already an edge elsewhere would be a second copy of it.
-  for (const auto& d : diagonals)
-    if (mesh.hasEdge(d[0], d[1])) return 0;
+  if (!(triangulateEdgeRing(mesh, a, b, tets, bound, made) > before)) return 0;
   mesh.replace(tets, made, material);
   return n;
 }

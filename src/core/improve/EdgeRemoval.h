@@ -6,6 +6,7 @@
 // one whose worst tet is best, found by dynamic programming over the ring's sub-polygons.
 // n = 3 is the 3-2 flip, n = 4 the 4-4 flip.
 #include <cstdint>
+#include <vector>
 
 #include "improve/ImprovementMesh.h"
 
@@ -18,5 +19,12 @@ inline constexpr int kMaxEdgeRemovalRing = 7;
 // Never removes a feature edge, an edge on a boundary or interface triangle, or an edge whose
 // tets are of several materials. Returns the ring size when removed, else 0.
 int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b);
+
+// The best triangulation of the closed ring of `tets` around ab (3..7 of them, whatever their
+// materials and faces): the tets it makes, every one positive and admitted by `bound`, no
+// ring diagonal already a mesh edge. Returns the smallest dihedral angle of those tets, or
+// -infinity (and `made` unspecified) when there is no such triangulation.
+double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                           const SizeBound& bound, std::vector<TetCorners>& made);
 
 }  // namespace oraclemesh

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "RunControl.h"
+#include "improve/FlatCaps.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -18,6 +19,12 @@ struct ImprovementOptions {
   double goal_deg = 20;   // tets whose smallest dihedral angle is below it are worked on
   int max_passes = 8;     // the deterministic work bound; a pass that changes nothing ends it
   double time_limit = 0;  // seconds, 0 = none (a wall-time stop makes the mesh machine-dependent)
+  // Flat caps on planar boundary and interface pieces (FlatCaps.h), before the other operations:
+  // flat within this fraction of the mesh's bounding-box diagonal (the boundary snap's
+  // tolerance), at most this fraction of a material's volume moved in all.
+  bool flat_caps = true;
+  double flat_cap_flatness = 1e-9;
+  double flat_cap_volume_bound = 1e-9;
 };
 
 struct PoorTetCounts {
@@ -35,12 +42,14 @@ struct ImprovementStats {
   int64_t smoothed_interior = 0;
   int64_t smoothed_surface = 0;  // in a planar patch
   int64_t smoothed_feature = 0;  // along a straight curve
+  FlatCapStats flat_caps;
   int passes = 0;
   bool stopped_by_time_limit = false;
   double seconds = 0;
 };
 
 // Rejects second-order meshes (mid nodes would be stale). Checks `control` for cancellation.
+// Rebuilds mesh.boundary when flat caps change it.
 ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control);
 
 }  // namespace oraclemesh

@@ -1,0 +1,229 @@
+#include "improve/FlatCaps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <vector>
+
+#include "improve/EdgeRemoval.h"
+#include "improve/ImprovementMesh.h"
+#include "mesh/Quality.h"
+#include "mesh/Topology.h"
+
+namespace oraclemesh {
+namespace {
+
+// A sweep over the tets finds caps a previous removal exposed; a handful covers the stacks
+// of caps seen on real parts, and a sweep that changes nothing ends the loop.
+constexpr int kMaxSweeps = 4;
+
+// Relative room in the size bound of an interface flip.
+constexpr double kSizeSlack = 1e-6;
+
+enum class FaceSide { Inner, Outer, Interface };
+
+struct FaceNeighbour {
+  FaceSide side = FaceSide::Inner;
+  int other_material = 0;  // Interface: the material across
+};
+
+FaceNeighbour neighbourAcross(const ImprovementMesh& mesh, int64_t t, int64_t a, int64_t b, int64_t c) {
+  const std::vector<int64_t> tets = mesh.tetsWithFace(a, b, c);
+  if (tets.size() == 1) return {FaceSide::Outer, 0};
+  const int64_t other = tets[0] == t ? tets[1] : tets[0];
+  if (mesh.material(other) == mesh.material(t)) return {FaceSide::Inner, 0};
+  return {FaceSide::Interface, mesh.material(other)};
+}
+
+// Whether some face at edge cd lies on the outer boundary or on an interface.
+bool edgeOnSurface(const ImprovementMesh& mesh, int64_t c, int64_t d) {
+  for (int64_t t : mesh.tetsAroundEdge(c, d))
+    for (int64_t x : mesh.tet(t)) {
+      if (x == c || x == d) continue;
+      if (neighbourAcross(mesh, t, c, d, x).side != FaceSide::Inner) return true;
+    }
+  return false;
+}
+
+// Normal of triangle (p, q, r) turned away from `inside` (area-weighted).
+Point3 outwardNormal(const Point3& p, const Point3& q, const Point3& r, const Point3& inside) {
+  const Point3 n = cross(q - p, r - p);
+  return dot(n, inside - p) > 0 ? -1.0 * n : n;
+}
+
+// The cap of tet t: corners a, b (the edge the two cap faces share) and c, d (the edge of its
+// two inner faces), and what lies across the cap faces.
+struct Cap {
+  int64_t a = -1, b = -1, c = -1, d = -1;
+  FaceNeighbour across;
+};
+
+// Two faces of one kind (outer, or one interface) and two inner faces; else a = -1.
+Cap capOf(const ImprovementMesh& mesh, int64_t t) {
+  const TetCorners& k = mesh.tet(t);
+  FaceNeighbour sides[4];
+  std::vector<int> capCorners, innerCorners;  // the corner each face is opposite to
+  for (int i = 0; i < 4; ++i) {
+    sides[i] = neighbourAcross(mesh, t, k[(i + 1) % 4], k[(i + 2) % 4], k[(i + 3) % 4]);
+    (sides[i].side == FaceSide::Inner ? innerCorners : capCorners).push_back(i);
+  }
+  if (capCorners.size() != 2) return {};
+  const FaceNeighbour& first = sides[capCorners[0]];
+  const FaceNeighbour& second = sides[capCorners[1]];
+  if (first.side != second.side || first.other_material != second.other_material) return {};
+  // The face opposite c and the one opposite d are the cap faces; both contain a and b.
+  return {k[innerCorners[0]], k[innerCorners[1]], k[capCorners[0]], k[capCorners[1]], first};
+}
+
+// Flat: the cap faces (abc, abd) face one way and the inner faces (acd, bcd) the other (the two
+// triangulations of one convex quad), every corner within `flatness` of their mean plane.
+bool isFlat(const std::vector<Point3>& p, const Cap& cap, double flatness) {
+  const Point3 &a = p[cap.a], &b = p[cap.b], &c = p[cap.c], &d = p[cap.d];
+  const Point3 nabc = outwardNormal(a, b, c, d), nabd = outwardNormal(a, b, d, c);
+  const Point3 nacd = outwardNormal(a, c, d, b), nbcd = outwardNormal(b, c, d, a);
+  const Point3 sum = nabc + nabd;
+  const double length = norm(sum);
+  if (!(length > 0)) return false;
+  const Point3 normal = (1.0 / length) * sum;
+  if (!(dot(nabc, normal) > 0 && dot(nabd, normal) > 0 && dot(nacd, normal) < 0 && dot(nbcd, normal) < 0))
+    return false;
+  for (const Point3* q : {&b, &c, &d})
+    if (std::abs(dot(*q - a, normal)) > flatness) return false;
+  return true;
+}
+
+class CapRemoval {
+ public:
+  CapRemoval(TetMesh& mesh, double flatness, double volume_bound)
+      : work_(mesh), flatness_(flatness), volume_bound_(volume_bound) {
+    for (size_t t = 0; t < mesh.tets.size(); ++t) volume_[mesh.tet_materials[t]] += volumeOf(mesh.tets[t]);
+  }
+
+  ImprovementMesh& work() { return work_; }
+
+  // Each flat cap once; returns the changes made. Without `apply` it changes nothing and
+  // counts the caps a condition keeps.
+  int64_t sweep(FlatCapStats& stats, bool apply) {
+    apply_ = apply;
+    int64_t changes = 0;
+    const int64_t slots = work_.tetSlots();
+    for (int64_t t = 0; t < slots; ++t) {
+      if (!work_.alive(t) || !thinEnough(work_.tet(t))) continue;
+      const Cap cap = capOf(work_, t);
+      if (cap.a < 0 || !isFlat(work_.points(), cap, flatness_)) continue;
+      const bool done = cap.across.side == FaceSide::Outer ? removeOuter(t, cap) : flipInterface(t, cap);
+      if (!apply) {
+        stats.caps_kept += !done;
+      } else if (done) {
+        ++changes;
+        ++(cap.across.side == FaceSide::Outer ? stats.boundary_caps_removed : stats.interface_caps_flipped);
+      }
+    }
+    return changes;
+  }
+
+  double largestVolumeChange() const {
+    double largest = 0;
+    for (const auto& [material, moved] : moved_) largest = std::max(largest, moved / volume_.at(material));
+    return largest;
+  }
+
+ private:
+  double volumeOf(const TetCorners& t) const {
+    const auto& p = work_.points();
+    return tetVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
+  }
+
+  // Cheap first look before the face lookups. isFlat puts the corners in a slab of width
+  // w = 2 flatness; the faces facing one way cover the tet's shadow on the slab, at most twice
+  // the largest face, so the volume is at most 2w/3 of the largest face and the height over it
+  // at most 2w.
+  bool thinEnough(const TetCorners& t) const {
+    const auto& p = work_.points();
+    double largest = 0;
+    for (int i = 0; i < 4; ++i) {
+      const Point3 &a = p[t[(i + 1) % 4]], &b = p[t[(i + 2) % 4]], &c = p[t[(i + 3) % 4]];
+      largest = std::max(largest, 0.5 * norm(cross(b - a, c - a)));
+    }
+    return largest > 0 && 3 * volumeOf(t) / largest <= 4 * flatness_;
+  }
+
+  bool withinVolumeBound(int material, double volume) const {
+    const auto it = moved_.find(material);
+    const double before = it == moved_.end() ? 0 : it->second;
+    return before + volume <= volume_bound_ * volume_.at(material);
+  }
+
+  // The edge ab disappears with the tet unless another tet has it; c and d stay in the inner
+  // faces' neighbours, a and b too, so every vertex stays used.
+  bool removeOuter(int64_t t, const Cap& cap) {
+    const int material = work_.material(t);
+    if (work_.isProtectedEdge(cap.a, cap.b) && work_.tetsAroundEdge(cap.a, cap.b).size() == 1) return false;
+    if (edgeOnSurface(work_, cap.c, cap.d)) return false;
+    const double volume = volumeOf(work_.tet(t));
+    if (!withinVolumeBound(material, volume)) return false;
+    if (!apply_) return true;
+    work_.replace({t}, {}, material);
+    moved_[material] += volume;
+    return true;
+  }
+
+  // The tets around ab are this one (material A) and a closed fan of material B; all of them
+  // become B, triangulated without ab, so the interface triangles abc, abd become acd, bcd.
+  bool flipInterface(int64_t t, const Cap& cap) {
+    const int own = work_.material(t), other = cap.across.other_material;
+    if (work_.isProtectedEdge(cap.a, cap.b)) return false;
+    if (edgeOnSurface(work_, cap.c, cap.d)) return false;
+    const std::vector<int64_t> ring = work_.tetsAroundEdge(cap.a, cap.b);
+    // The size bound comes from B's tets only (the flat tet's circumradius would admit
+    // anything), with room for the flat tet's height added to their region (rounding alone
+    // makes the mirror image of a tet across the flat quad 1e-13 bigger).
+    SizeBound bound;
+    const auto& p = work_.points();
+    for (int64_t r : ring) {
+      if (r == t) continue;
+      if (work_.material(r) != other) return false;
+      const TetCorners& k = work_.tet(r);
+      bound.include(tetSize(p[k[0]], p[k[1]], p[k[2]], p[k[3]]));
+    }
+    bound.circumradius *= 1 + kSizeSlack;
+    bound.radius_edge_ratio *= 1 + kSizeSlack;
+    std::vector<TetCorners> made;
+    if (!(triangulateEdgeRing(work_, cap.a, cap.b, ring, bound, made) > work_.quality(t))) return false;
+    const double volume = volumeOf(work_.tet(t));
+    if (!withinVolumeBound(own, volume) || !withinVolumeBound(other, volume)) return false;
+    if (!apply_) return true;
+    work_.replace(ring, made, other);
+    moved_[own] += volume;
+    moved_[other] += volume;
+    return true;
+  }
+
+  ImprovementMesh work_;
+  double flatness_, volume_bound_;
+  bool apply_ = true;
+  std::map<int, double> volume_;  // per material, before
+  std::map<int, double> moved_;   // per material, summed volume gained or lost
+};
+
+}  // namespace
+
+FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound) {
+  FlatCapStats stats;
+  CapRemoval removal(mesh, flatness, volume_bound);
+  int64_t changes = 0;
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    const int64_t made = removal.sweep(stats, true);
+    changes += made;
+    if (made == 0) break;
+  }
+  removal.sweep(stats, false);
+  stats.largest_volume_change = removal.largestVolumeChange();
+  if (changes == 0) return stats;
+  removal.work().writeBack(mesh);
+  mesh.boundary = extractBoundary(mesh);
+  return stats;
+}
+
+}  // namespace oraclemesh

@@ -1,0 +1,159 @@
+// Flat caps (src/core/improve/FlatCaps) on a hand-built square pyramid: the square
+// p0 p1 p2 p3 on top, the apex q below; the pyramid is the two tets under the diagonal p1 p3,
+// and on top of them lies the flat tet p0 p1 p2 p3 whose diagonal p0 p2 is `lift` above (its
+// two top faces on the boundary, or on an interface with a second pyramid above, apex r).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "RunControl.h"
+#include "improve/FlatCaps.h"
+#include "improve/MeshImprovement.h"
+#include "improve/TetShape.h"
+#include "mesh/Topology.h"
+#include "mesh_checks.h"
+#include "mesh_fixtures.h"
+
+namespace oraclemesh {
+namespace {
+
+constexpr int64_t P0 = 0, P1 = 1, P2 = 2, P3 = 3, Q = 4, R = 5;
+constexpr double kFlatness = 1e-9;  // absolute: the pyramids' diagonal is about 2
+constexpr double kVolumeBound = 1e-9;
+
+void orientAll(TetMesh& m) {
+  for (auto& t : m.tets)
+    if (test::orientation(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0) std::swap(t[0], t[1]);
+}
+
+// `above` = 0: nothing above the cap; else a second pyramid of that material.
+TetMesh cappedPyramid(double lift, int above = 0) {
+  TetMesh m;
+  m.points = {{0, 0, lift}, {1, 0, 0}, {1, 1, lift}, {0, 1, 0}, {0.5, 0.5, -1}, {0.5, 0.5, 1}};
+  m.tets = {{P0, P1, P3, Q}, {P2, P1, P3, Q}, {P0, P1, P2, P3}};
+  m.tet_materials = {1, 1, 1};
+  if (above != 0) {
+    m.tets.push_back({P0, P1, P2, R});
+    m.tets.push_back({P0, P2, P3, R});
+    m.tet_materials.push_back(above);
+    m.tet_materials.push_back(above);
+  } else {
+    m.points.pop_back();
+  }
+  orientAll(m);
+  m.boundary = extractBoundary(m);
+  m.vertex_dimension.assign(m.points.size(), 2);
+  m.vertex_curve.assign(m.points.size(), -1);
+  return m;
+}
+
+bool hasEdge(const TetMesh& m, int64_t u, int64_t v) {
+  for (const auto& t : m.tets)
+    if (std::count(t.begin(), t.end(), u) && std::count(t.begin(), t.end(), v)) return true;
+  return false;
+}
+
+double minDihedralOf(const TetMesh& m) {
+  double lo = 180;
+  for (const auto& t : m.tets) lo = std::min(lo, smallestDihedral(m.points, t));
+  return lo;
+}
+
+// Positive tets, closed material boundaries, mesh.boundary as extractBoundary gives it, each
+// material's volume within `bound` of before, every feature edge a tet edge.
+void expectConsistent(const TetMesh& before, const TetMesh& after, double bound) {
+  for (const auto& t : after.tets)
+    EXPECT_GT(test::orientation(after.points[t[0]], after.points[t[1]], after.points[t[2]], after.points[t[3]]), 0);
+  const ConformityReport c = checkConformity(after);
+  EXPECT_EQ(c.open_boundary_edges, 0);
+  EXPECT_EQ(c.faces_shared_by_more_than_two, 0);
+  EXPECT_EQ(test::listedBoundaryFaces(after), test::boundaryFaces(after));
+  const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
+  for (const auto& [material, volume] : vb) EXPECT_NEAR(va.at(material), volume, bound * volume) << material;
+  EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
+}
+
+TEST(ImproveFlatCaps, CapOnAPlaneIsRemovedAndTheTopStaysClosedAndPlanar) {
+  const TetMesh before = cappedPyramid(1e-12);
+  ASSERT_LT(minDihedralOf(before), 1e-6);
+  TetMesh m = before;
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.boundary_caps_removed, 1);
+  EXPECT_EQ(s.caps_kept, 0);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_FALSE(hasEdge(m, P0, P2));
+  EXPECT_GT(minDihedralOf(m), 10);
+  EXPECT_GT(s.largest_volume_change, 0);
+  EXPECT_LE(s.largest_volume_change, kVolumeBound);
+  expectConsistent(before, m, kVolumeBound);
+  // The top of the boundary is the other triangulation of the square, its normals up.
+  int top = 0;
+  for (const BoundaryTriangle& b : m.boundary) {
+    if (std::count(b.v.begin(), b.v.end(), Q)) continue;
+    ++top;
+    const Point3 n = cross(m.points[b.v[1]] - m.points[b.v[0]], m.points[b.v[2]] - m.points[b.v[0]]);
+    EXPECT_GT(n[2], 0);
+    EXPECT_NEAR(std::abs(n[0]) + std::abs(n[1]), 0, 1e-11);
+  }
+  EXPECT_EQ(top, 2);
+}
+
+TEST(ImproveFlatCaps, CapCarryingAFeatureEdgeNoOtherTetHasIsKept) {
+  TetMesh m = cappedPyramid(1e-12);
+  m.feature_edges = {{P0, P2}};
+  m.feature_edge_curves = {0};
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.boundary_caps_removed, 0);
+  EXPECT_EQ(s.caps_kept, 1);
+  EXPECT_EQ(m.tets.size(), 3u);
+  EXPECT_TRUE(hasEdge(m, P0, P2));
+}
+
+TEST(ImproveFlatCaps, CapOnACurvedPatchIsKept) {
+  const TetMesh before = cappedPyramid(1e-3);  // a ridge of 1e-3 across the square: not one plane
+  TetMesh m = before;
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.boundary_caps_removed + s.interface_caps_flipped + s.caps_kept, 0);
+  EXPECT_EQ(m.tets, before.tets);
+}
+
+TEST(ImproveFlatCaps, CapOverTheVolumeBoundIsKept) {
+  TetMesh m = cappedPyramid(1e-12);
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, 1e-13);  // the cap is 1e-12 of the volume
+  EXPECT_EQ(s.boundary_caps_removed, 0);
+  EXPECT_EQ(s.caps_kept, 1);
+  EXPECT_EQ(m.tets.size(), 3u);
+}
+
+TEST(ImproveFlatCaps, CapOnAnInterfaceIsFlippedOnBothSides) {
+  const TetMesh before = cappedPyramid(1e-12, 2);
+  TetMesh m = before;
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.interface_caps_flipped, 1);
+  EXPECT_EQ(s.boundary_caps_removed, 0);
+  ASSERT_EQ(m.tets.size(), 4u);  // the 3-2 flip of the ring around p0 p2, all of material 2
+  EXPECT_FALSE(hasEdge(m, P0, P2));
+  EXPECT_EQ(std::count(m.tet_materials.begin(), m.tet_materials.end(), 1), 2);
+  EXPECT_GT(minDihedralOf(m), 10);
+  expectConsistent(before, m, kVolumeBound);
+  // The interface is the square's other triangulation.
+  int interface = 0;
+  for (const BoundaryTriangle& b : m.boundary)
+    if (b.material_out == 2) {
+      ++interface;
+      EXPECT_TRUE(std::count(b.v.begin(), b.v.end(), P1) && std::count(b.v.begin(), b.v.end(), P3));
+    }
+  EXPECT_EQ(interface, 2);
+}
+
+TEST(ImproveFlatCaps, TheStageRunsThemFirstAndReportsThem) {
+  TetMesh m = cappedPyramid(1e-12);
+  const ImprovementStats s = improveMesh(m, ImprovementOptions{}, RunControl());
+  EXPECT_EQ(s.flat_caps.boundary_caps_removed, 1);
+  EXPECT_LT(s.min_dihedral_before, 1e-6);
+  EXPECT_GT(s.min_dihedral_after, 10);
+  EXPECT_EQ(m.boundary.size(), extractBoundary(m).size());
+}
+
+}  // namespace
+}  // namespace oraclemesh
