@@ -26,20 +26,39 @@ TEST(SizeField, IsTheGradedMinimumOverItsSamplesCapped) {
   std::vector<SizeSample> samples;
   for (int i = 0; i < 2000; ++i) samples.push_back({{coord(rng), coord(rng), coord(rng)}, size(rng)});
   const double grading = 0.3, cap = 20, floor = 0.05;
-  Bbox box;
-  box.add(Point3{-50, -50, -50});
-  box.add(Point3{50, 50, 50});
-  const SizeField field(samples, grading, cap, floor, box);
+  const SizeField field(samples, grading, cap, floor);
   for (int q = 0; q < 300; ++q) {
     const Point3 p{coord(rng) * 1.5, coord(rng) * 1.5, coord(rng) * 1.5};
     double expected = cap;
     for (const SizeSample& s : samples) expected = std::min(expected, std::max(s.size, floor) + grading * distance(p, s.point));
-    ASSERT_NEAR(field.exactAt(p), expected, 1e-12 * cap) << "query " << q;
-    // The octree's answer (the exact value at the centre of a cell across which it varies
-    // by at most the tolerance), inside the box and outside it.
-    ASSERT_NEAR(field.at(p), expected, SizeField::kTolerance * expected * (1 + 1e-9)) << "query " << q;
+    ASSERT_NEAR(field.at(p), expected, 1e-12 * cap) << "query " << q;
   }
   EXPECT_DOUBLE_EQ(field.smallestSize(), floor);  // sizes under the floor are raised to it
+}
+
+// Samples as the face sampling makes them: dense along a surface, each point several times
+// (the corners of every triangle around it), sizes varying slowly. Thinning drops most of
+// them and keeps the field between the exact one and (1 + tolerance) times it.
+TEST(SizeField, ThinnedSamplesStayWithinTheirToleranceOfAllSamples) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> along(0, 100), jitter(-0.01, 0.01);
+  std::vector<SizeSample> samples;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = along(rng), y = along(rng);
+    const double size = 0.2 + 0.02 * x + 0.5 * std::abs(std::sin(y / 7));
+    for (int copy = 0; copy < 3; ++copy) samples.push_back({{x + jitter(rng), y, 0}, size});
+  }
+  const double grading = 0.3, cap = 10, tolerance = 0.1;
+  const SizeField all(samples, grading, cap, 0), thinned(samples, grading, cap, 0, tolerance);
+  EXPECT_EQ(thinned.samplesTaken(), samples.size());
+  EXPECT_LT(thinned.sampleCount(), samples.size() / 4);  // the copies, and more
+  std::uniform_real_distribution<double> coord(-20, 120);
+  for (int q = 0; q < 2000; ++q) {
+    const Point3 p{coord(rng), coord(rng), 0.2 * coord(rng)};
+    const double exact = all.at(p), thin = thinned.at(p);
+    ASSERT_GE(thin, exact * (1 - 1e-12)) << "query " << q;
+    ASSERT_LE(thin, (1 + tolerance) * exact * (1 + 1e-12)) << "query " << q;
+  }
 }
 
 TEST(SizeField, GrowsNoFasterThanItsGrading) {
@@ -48,10 +67,10 @@ TEST(SizeField, GrowsNoFasterThanItsGrading) {
   std::uniform_real_distribution<double> coord(-20, 30);
   for (int q = 0; q < 500; ++q) {
     const Point3 a{coord(rng), coord(rng), coord(rng)}, b{coord(rng), coord(rng), coord(rng)};
-    ASSERT_LE(std::abs(field.exactAt(a) - field.exactAt(b)), 0.3 * distance(a, b) * (1 + 1e-12));
+    ASSERT_LE(std::abs(field.at(a) - field.at(b)), 0.3 * distance(a, b) * (1 + 1e-12));
   }
-  EXPECT_DOUBLE_EQ(field.exactAt({0, 0, 0}), 0.1);
-  EXPECT_DOUBLE_EQ(field.exactAt({10, 0, 0}), 2);  // 0.1 + 0.3 * 10 = 3.1 from the other sample
+  EXPECT_DOUBLE_EQ(field.at({0, 0, 0}), 0.1);
+  EXPECT_DOUBLE_EQ(field.at({10, 0, 0}), 2);  // 0.1 + 0.3 * 10 = 3.1 from the other sample
 }
 
 std::vector<SizeSample> samplesOf(const TopoDS_Shape& shape, double sharpAngle = 30) {

@@ -98,7 +98,7 @@ json sizeFieldJson(const std::string& fineness, const SizeField& field) {
   for (int r = 0; r < kSizeReasonCount; ++r)
     samples[sizeReasonName(static_cast<SizeReason>(r))] = field.sampleCount(static_cast<SizeReason>(r));
   json j = {{"fineness", fineness}, {"grading", field.grading()}, {"largest", field.cap()},
-            {"samples", samples}};
+            {"samples", samples}, {"samples_taken", field.samplesTaken()}};
   if (preset) {
     j["segments_per_circle"] = preset->segments_per_circle;
     j["sizes_per_thickness"] = preset->sizes_per_thickness;

@@ -15,6 +15,10 @@ namespace oraclemesh {
 namespace {
 
 constexpr double kSmallestSizeOfDiagonal = 1e-6;
+// The face samples lie on every corner of every tessellation triangle, a curvature and a
+// thickness sample each: those the others give within 10 % are dropped (the field is then at
+// most 10 % above the one of all samples, sizing/SampleThinning.h).
+constexpr double kSampleThinning = 0.1;
 
 MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallback) {
   MaterialCriteria c = fallback;
@@ -129,7 +133,7 @@ void attachSizeField(CriteriaTable& table, const JobSpec& job, const Hierarchica
                      ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
   }
   table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap,
-                                                  kSmallestSizeOfDiagonal * oracle.diagonal(), oracle.bbox());
+                                                  kSmallestSizeOfDiagonal * oracle.diagonal(), kSampleThinning);
 }
 
 // Refuse up front what would blow the vertex limit: a tet whose circumradius is near the

@@ -28,25 +28,23 @@ class SizeField {
  public:
   // Samples with a size at or above `cap` are dropped (the cap holds everywhere anyway); sizes
   // below `floor` are raised to it. Throws InputError for a grading that is not positive.
-  // `domain`: where at() is asked most (the model's box); elsewhere it is exact and slower.
-  SizeField(std::vector<SizeSample> samples, double grading, double cap, double floor, const Bbox& domain = Bbox());
+  // `thinning` > 0 drops the samples the others give within that relative tolerance
+  // (sizing/SampleThinning.h): the field is then at most (1 + thinning) times the one of all
+  // samples, and still exactly the graded minimum over the samples it kept.
+  SizeField(std::vector<SizeSample> samples, double grading, double cap, double floor, double thinning = 0);
   ~SizeField();
   SizeField(const SizeField&) = delete;
   SizeField& operator=(const SizeField&) = delete;
 
-  // The size at p, within kTolerance of min(cap, min_i size_i + grading |p - x_i|) (exact):
-  // the exact value at the centre of the octree cell around p that is small enough for the
-  // field to vary less than that across it. Cells are made as queries reach them; the
-  // answer does not depend on the order of queries. Thread-safe.
+  // The size at p: min(cap, min_i size_i + grading |p - x_i|) over the kept samples, exactly
+  // (sizing/ConeTree.h). Thread-safe (const, no cache).
   double at(const Point3& p) const;
-  // The exact value, for tests and for points outside the octree.
-  double exactAt(const Point3& p) const;
-  static constexpr double kTolerance = 0.2;  // relative
 
   double grading() const;
   double cap() const;
   double floor() const;
-  size_t sampleCount() const;
+  size_t sampleCount() const;  // kept (after thinning)
+  size_t samplesTaken() const;  // under the cap, before thinning
   size_t sampleCount(SizeReason reason) const;
   // The smallest sample size and where it is, for the report and for messages.
   double smallestSize() const;
