@@ -8,6 +8,7 @@ message must name.
 import glob
 import math
 import os
+import resource
 import subprocess
 
 import numpy as np
@@ -71,6 +72,38 @@ def test_run_refuses_bad_input_and_still_works_afterwards(name):
         oraclemesh.run(os.path.join(BAD, name + ".json"))
     for part in EXPECTED[name]:
         assert part in str(err.value), (part, str(err.value))
+    assert len(oraclemesh.run(small_ball()).tets) > 0
+
+
+def sparse_job_file(folder, size):
+    """A job file of `size` bytes that takes no disk (a hole)."""
+    path = os.path.join(str(folder), "job_%d.json" % size)
+    with open(path, "wb") as f:
+        f.truncate(size)
+    return path
+
+
+def test_job_file_over_the_size_limit_is_refused_before_it_is_read(tmp_path):
+    limit = oraclemesh._core.max_job_bytes
+    assert limit == 1 << 30  # the README's "at most 1 GiB of JSON"
+    path = sparse_job_file(tmp_path, limit + 1)
+    expected = ("the job file '%s' is %d bytes of JSON, more than the limit of %d bytes (1 GiB): give large "
+                "surfaces as STL/OBJ/OFF files instead of 'surface' lists" % (path, limit + 1, limit))
+    # The CLI: exit code 2 at once, and its peak memory shows it read none of the file.
+    child = subprocess.Popen([CLI, path], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    message = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)
+    assert child.returncode == 2, (child.returncode, message)
+    assert expected in message, message
+    assert usage.ru_maxrss < 256 * 1024, usage.ru_maxrss  # kB; reading the file would take 1 GiB
+    # oraclemesh.run and run_isolated, in this process and before a child is started.
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for run in (oraclemesh.run, oraclemesh.run_isolated):
+        with pytest.raises(oraclemesh.InputError) as err:
+            run(path)
+        assert str(err.value) == expected
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 256 * 1024
     assert len(oraclemesh.run(small_ball()).tets) > 0
 
 
