@@ -50,6 +50,10 @@ EXPECTED = {
     "inf_point.step": ["not a finite number", "inf_point.step", "entity #24"],
     # 1.D999 for a line's start x in an IGES box (FreeCAD's export): the transfer looped on it
     "inf_line.iges": ["not finite (1.D999)", "inf_line.iges", "IGES entity DE 11"],
+    # parameter lines and no directory entry: OpenCASCADE's IGES parser used the previous file's
+    # freed entry for them (a segfault when the process had read an IGES file before)
+    "iges_without_directory.iges": ["iges_without_directory.iges", "its parameter data (line 3) comes before any "
+                                    "directory entry", "export it again"],
     # the first half of that box's IGES file
     "truncated_box.iges": ["holds no shape OpenCASCADE can transfer", "truncated_box.iges"],
     # box.step with one plane's CARTESIAN_POINT and one EDGE_CURVE misspelt: OpenCASCADE widened

@@ -39,6 +39,12 @@ EXPECTED = {
     "stl_nan_vertex": ["input 'bone'", "nan_vertex.stl", "not a finite number"],
     "stl_inf_vertex": ["input 'bone'", "inf_vertex.stl", "not a finite number"],
     "off_huge_counts": ["input 'part'", "huge_counts.off", "declares 1000000000 vertices"],
+    # Non-finite numbers in the text formats and NRRD headers: refused where they are read.
+    "obj_nan_vertex": ["input 'bone'", "nan_vertex.obj", "is not a readable obj file", "export it again"],
+    "off_inf_vertex": ["input 'part'", "inf_vertex.off", "no x y z numbers at vertex 2 of 4 (line 4)"],
+    "stl_ascii_nan_vertex": ["input 'bone'", "nan_vertex_ascii.stl", "is not a readable stl file"],
+    "nrrd_nan_spacing": ["input 'scan'", "nan_spacing.nrrd", "axis 0 has spacing nan", "give positive voxel sizes"],
+    "nrrd_inf_origin": ["input 'scan'", "inf_origin.nrrd", "'space origin' is not a finite 3D point"],
     "missing_output_folder": ["output.files[0]", "no_such_folder", "does not exist"],
     "cut_removes_everything": ["the cut 'cutter' removes everything", "'ball'"],
     "tiny_box": ["input 'box'", "tiny_box.brep", "units"],
