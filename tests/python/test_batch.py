@@ -249,6 +249,24 @@ def test_hang_past_the_deadline_and_missing_input_fail_alone(tmp_path, client):
     assert time.time() - started < 60
 
 
+def test_damaged_cad_files_fail_alone_naming_the_file(tmp_path, client):
+    """Issue 18: a STEP file OpenCASCADE's reader segfaults on and a BREP file its reader loops
+    on, in one batch with a good job: each is an InputError naming its file within its time
+    limit, and the good job meshes (the workers survive)."""
+    bad = os.path.abspath(os.path.join(HERE, "..", "data", "bad", "cad"))
+    damaged = ["step_reader_crash.step", "brep_reader_loop.brep"]
+    jobs = [ball_job("ok")] + [{"inputs": [{"name": "part", "file": os.path.join(bad, name), "material": 1}],
+                                "element_order": 1, "limits": {"time_limit": 4}} for name in damaged]
+    started = time.time()
+    result = oraclemesh.batch(jobs, client=client, out=str(tmp_path / "out"), grace=2, progress=False)
+    rows = sorted(result.rows, key=lambda r: r["case"])
+    assert [r["status"] for r in rows] == ["ok", "failed", "failed"], rows
+    for row, name, what in zip(rows[1:], damaged, ["OpenCASCADE crashed reading", "OpenCASCADE did not finish reading"]):
+        assert row["error_type"] == "InputError", row
+        assert what in row["error"] and name in row["error"], row["error"]
+    assert time.time() - started < 60
+
+
 def test_shipped_inputs_give_the_same_mesh(six_cases, tmp_path, client):
     folder, out, _ = six_cases
     shipped = oraclemesh.batch([os.path.join(folder, "cube_a.json")], client=client,
