@@ -67,7 +67,8 @@ def outcome(code, message):
         return "signal or no end"
     if code == 2:
         for part in ("did not finish reading", "did not finish working", "crashed reading", "has a tolerance",
-                     "whose curve ends", "collapses", "not a readable", "non-finite"):
+                     "whose curve ends", "collapses", "not a readable", "non-finite", "not a finite",
+                     "open shell", "holds no shape"):
             if part in message:
                 return "exit 2: " + part
         return "exit 2: other"
@@ -75,12 +76,13 @@ def outcome(code, message):
 
 
 def reader_outcome(path, seconds):
-    """The helper's outcome on `path` within `seconds`, and the frames naming where it stalled."""
+    """The helper's outcome on `path` within `seconds`, and its message or the frames naming
+    where it stalled."""
     result = where_stalled(path, seconds)
     if result[0] == "stalled":
         return "helper stalled: " + result[1], result[2][:6]
-    code = result[1]
-    return ("helper exit %d" % code if code >= 0 else "helper signal %d" % -code), []
+    code, message = result[1], result[2]
+    return ("helper " + outcome(code, message) if code >= 0 else "helper signal %d" % -code), message[:400]
 
 
 def main():
@@ -110,11 +112,11 @@ def main():
                            "element_order": 1, "limits": {"time_limit": args.time_limit}}, f)
             start = time.monotonic()
             if args.reader_only:
-                kind, frames = reader_outcome(stem, args.time_limit)
+                kind, detail = reader_outcome(stem, args.time_limit)
                 counts[kind] += 1
                 log.write(json.dumps({"try": i, "model": os.path.basename(model), "mutation": how,
                                       "seconds": round(time.monotonic() - start, 2), "outcome": kind,
-                                      "frames": frames}) + "\n")
+                                      "stack" if "stalled" in kind else "message": detail}) + "\n")
                 log.flush()
                 if "stalled" not in kind:  # the helper's signals are contained: counted, not kept
                     os.remove(stem)

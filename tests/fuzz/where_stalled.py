@@ -44,7 +44,7 @@ def phase_of(frames):
 
 
 def where_stalled(path, seconds):
-    """("finished", exit code) or ("stalled", phase, frames naming it)."""
+    """("finished", exit code, the helper's error message) or ("stalled", phase, frames naming it)."""
     with tempfile.TemporaryDirectory() as out:
         helper = subprocess.Popen([HELPER, "--file", os.path.abspath(path), out, "part", "separate", str(os.getpid())],
                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -52,7 +52,9 @@ def where_stalled(path, seconds):
         while time.monotonic() < end and helper.poll() is None:
             time.sleep(0.05)
         if helper.poll() is not None:
-            return ("finished", helper.returncode)
+            error = os.path.join(out, "error.txt")
+            message = open(error, errors="replace").read() if os.path.exists(error) else ""
+            return ("finished", helper.returncode, message)
         frames = stack_of(helper.pid)
         helper.kill()
         helper.wait()
@@ -68,7 +70,7 @@ def main():
     for path in args.files:
         result = where_stalled(path, args.seconds)
         if result[0] == "finished":
-            print("%s: finished, exit code %d" % (path, result[1]))
+            print("%s: finished, exit code %d %s" % (path, result[1], result[2][:300]))
         else:
             print("%s: stalled in %s" % (path, result[1]))
             for frame in result[2][:6]:
