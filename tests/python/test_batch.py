@@ -7,6 +7,7 @@ mesh is the one `oraclemesh JOB.json` makes alone.
 import csv
 import json
 import os
+import resource
 import shutil
 import signal
 import subprocess
@@ -300,6 +301,21 @@ def test_study_grid_names_parameters_and_paths(tmp_path):
     moved = tmp_path / "moved"
     shutil.copytree(tmp_path, moved, ignore=shutil.ignore_patterns("moved"))
     assert [x.hash for x in study_cases.collect([str(moved / "study.json")])[0]] == [x.hash for x in found]
+
+
+def test_job_and_base_files_over_the_size_limit_are_refused_unread(tmp_path):
+    """Issue 18's JSON size limit holds for batch jobs, studies' base jobs and folders of jobs
+    too: a sparse file one byte over it is refused by its size (reading it would take 1 GiB)."""
+    huge = str(tmp_path / "huge.json")
+    with open(huge, "wb") as f:
+        f.truncate(oraclemesh._core.max_job_bytes + 1)
+    write_json(tmp_path / "study.json", {"base": "huge.json", "cases": [{"name": "a"}]})
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for jobs in ([huge], [str(tmp_path / "study.json")], [str(tmp_path)]):
+        with pytest.raises(oraclemesh.InputError, match="the job file '%s' is 1073741825 bytes of JSON, more than "
+                                                        "the limit of 1073741824 bytes" % huge):
+            study_cases.collect(jobs)
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 256 * 1024
 
 
 def test_cli_batch_command(tmp_path):
