@@ -40,7 +40,8 @@ def phase_of(frames):
         hits = [f for f in frames if any(m in f for m in marks)]
         if hits:
             return phase, hits
-    return "other", frames[:8]
+    core = [f for f in frames if "oraclemesh::" in f]  # the innermost of the core's own frames
+    return "other", frames[:8] + core[:1]
 
 
 def where_stalled(path, seconds):
