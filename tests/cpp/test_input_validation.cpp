@@ -182,8 +182,8 @@ TEST(InputValidation, PolylineWithAnotherEdgesBrepIsRefused) {
 }
 
 // An IGES file of a start and a global section (`global`, 72 columns a line) and parameter
-// lines, each {parameters (64 columns), the entity's directory entry}; no directory section:
-// what is tested is refused, or passed on, before OpenCASCADE reads the file.
+// lines, each {parameters (64 columns), the entity's directory entry}; no directory section,
+// so OpenCASCADE never reads it: its numbers are checked first, then the missing directory.
 std::string igesFile(const std::string& global, const std::vector<std::pair<std::string, int>>& parameterLines) {
   auto line = [](std::string data, char section, int sequence) {
     data.resize(72, ' ');
