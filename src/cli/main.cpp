@@ -14,6 +14,7 @@
 #include "HardDeadline.h"
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
+#include "job/JobJson.h"
 #include "job/OpenCascadeStall.h"
 #include "job/Pipeline.h"
 
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   if (argc != 2 || std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help") return usage(argv[0]);
   const std::string jobPath = argv[1];
   try {
+    oraclemesh::jobjson::requireJobFileSize(jobPath);  // before reading a byte of it
     std::ifstream in(jobPath);
     if (!in) throw oraclemesh::InputError("cannot read the job file '" + jobPath + "': check the path");
     std::stringstream text;

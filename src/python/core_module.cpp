@@ -10,6 +10,7 @@
 
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
+#include "job/JobJson.h"
 #include "job/OpenCascadeStall.h"
 #include "job/Pipeline.h"
 
@@ -142,6 +143,9 @@ PYBIND11_MODULE(_core, m) {
   m.def("run", &run, py::arg("job_json"), py::arg("base_directory") = "", py::arg("progress") = py::none(),
         "Run a job given as JSON text; returns a dict of numpy arrays and the report as JSON text.");
   m.def("version", &version);
+  m.def("require_job_file_size", &jobjson::requireJobFileSize, py::arg("path"),
+        "InputError when the job file at path is over the size limit (max_job_bytes), before it is read.");
+  m.attr("max_job_bytes") = jobjson::kMaxBytes;
   // For oraclemesh.worker, the child of run_isolated, which has a hard deadline of its own.
   m.def("watch_opencascade_in_this_thread", &OpenCascadeWork::watchThisThread,
         "Makes the calling thread (the one that will call run) the one opencascade_stall reports on.");

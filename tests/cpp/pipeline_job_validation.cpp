@@ -5,11 +5,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "Error.h"
 #include "domain/Sphere.h"
+#include "job/JobJson.h"
 #include "job/JobSpec.h"
 #include "job/Pipeline.h"
 #include "job/ResolvedCriteria.h"
@@ -86,6 +90,28 @@ TEST(JobValidation, DeepNestingIsRefusedBeforeParsing) {
   const std::string inString = R"({"inputs": [{"name": ")" + std::string(100, '[') +
                                R"(", "sphere": {"center": [0, 0, 0], "radius": 1}}]})";
   EXPECT_EQ(JobSpec::fromJsonText(inString, ".").inputs[0].name, std::string(100, '['));
+}
+
+TEST(JobValidation, JobFileOverTheSizeLimitIsRefusedBeforeReading) {
+  // Sparse files: a job file one byte over the limit costs no disk and, measured by its size
+  // alone, no memory (the CLI and oraclemesh.run check it before reading).
+  EXPECT_EQ(jobjson::kMaxBytes, size_t{1} << 30);  // the README's "1 GiB of JSON"
+  const auto dir = std::filesystem::temp_directory_path() / ("oraclemesh_job_size_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string over = (dir / "over.json").string(), at = (dir / "at.json").string();
+  std::ofstream(over).put(' ');
+  std::ofstream(at).put(' ');
+  std::filesystem::resize_file(over, jobjson::kMaxBytes + 1);
+  std::filesystem::resize_file(at, jobjson::kMaxBytes);
+  EXPECT_EQ(inputErrorOf([&] { jobjson::requireJobFileSize(over); }),
+            "the job file '" + over + "' is 1073741825 bytes of JSON, more than the limit of 1073741824 bytes (1 GiB): "
+            "give large surfaces as STL/OBJ/OFF files instead of 'surface' lists");
+  EXPECT_NO_THROW(jobjson::requireJobFileSize(at));
+  EXPECT_NO_THROW(jobjson::requireJobFileSize((dir / "missing.json").string()));  // left to the reading
+  std::filesystem::remove_all(dir);
+  // JSON text is held to the same limit, by its length.
+  EXPECT_TRUE(contains(inputErrorOf([] { jobjson::requireJobSize(jobjson::kMaxBytes + 1); }),
+                       "the job is 1073741825 bytes of JSON, more than the limit of 1073741824 bytes (1 GiB)"));
 }
 
 TEST(JobValidation, OutputsAreCheckedBeforeMeshing) {

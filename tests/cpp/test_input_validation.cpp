@@ -8,6 +8,8 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -23,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -179,8 +182,8 @@ TEST(InputValidation, PolylineWithAnotherEdgesBrepIsRefused) {
 }
 
 // An IGES file of a start and a global section (`global`, 72 columns a line) and parameter
-// lines, each {parameters (64 columns), the entity's directory entry}; no directory section:
-// what is tested is refused, or passed on, before OpenCASCADE reads the file.
+// lines, each {parameters (64 columns), the entity's directory entry}; no directory section,
+// so OpenCASCADE never reads it: its numbers are checked first, then the missing directory.
 std::string igesFile(const std::string& global, const std::vector<std::pair<std::string, int>>& parameterLines) {
   auto line = [](std::string data, char section, int sequence) {
     data.resize(72, ' ');
@@ -219,6 +222,33 @@ TEST(InputValidation, IgesNumbersThatAreNotFiniteAreRefusedBeforeReading) {
   message = igesMessage("strings.iges", igesFile("", {{line, 1}, {"406,1,12H1.D999,NaN,x;", 3},
                                                       {longString, 5}, {",1.D999,NaN,bbb;", 5}}));
   EXPECT_FALSE(contains(message, "not finite")) << message;
+  // These files have no directory section: refused before OpenCASCADE reads them (next test).
+  EXPECT_TRUE(contains(message, "its parameter data (line 3) comes before any directory entry")) << message;
+}
+
+TEST(InputValidation, IgesWithoutDirectoryAfterAnotherIgesInOneProcess) {
+  // OpenCASCADE's IGES parser keeps the last directory entry of the previous file it read (freed
+  // with that file) and files a later file's parameters under it when no directory entry came
+  // first: a segfault in iges_newparam, which took the whole unit-test binary down once another
+  // suite had read an IGES file. The core refuses such a file before OpenCASCADE sees it; the
+  // good file read before and after it still reads.
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 1);
+  ASSERT_TRUE(writer.AddShape(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 8, 5)).Shape()));
+  writer.ComputeModel();
+  std::ostringstream box;
+  ASSERT_TRUE(writer.Write(box));
+  const std::string good = scratch("box.iges", box.str());
+  const std::string noDirectory = scratch("no_directory.iges", igesFile("1H,,1H;;", {{"110,0.,0.,0.,1.,1.,1.;", 1}}));
+  for (int round = 0; round < 3; ++round) {
+    const BrepSolid::Loaded loaded = BrepSolid::loadFile(good, "box", BrepSolid::Grouping::Separate);
+    ASSERT_EQ(loaded.solids.size(), 1u) << "round " << round;
+    EXPECT_NEAR(loaded.solids[0]->volume(), 400, 1e-6 * 400) << "round " << round;
+    const std::string message = inputErrorOf([&] { readShapeFile(noDirectory, "input 'part'"); });
+    EXPECT_TRUE(contains(message, "input 'part' is not a readable IGES file: its parameter data (line 3) comes before "
+                                  "any directory entry (D lines)"))
+        << message;
+  }
 }
 
 }  // namespace

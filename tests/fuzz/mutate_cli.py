@@ -5,12 +5,21 @@ meshed (classification, sharp edges, tessellation) is found here.
     /usr/bin/python3 tests/fuzz/mutate_cli.py --tries 400 --seed 1818 --out /tmp/mutations MODEL.brep ...
 
 Each try changes 1 to 3 characters (after the first 200 bytes) into a digit, '-', '.', 'e' or a
-space, or (one try in five) cuts the file at a random point in its second half, and meshes it
-with the default job (element order 1) under --time-limit. Every try is a line of
-OUT/log.jsonl (exit code, seconds, last phase, last message line); the mutated file and its job
-are kept when the try ends with a signal, exit code 1 or later than the time limit plus the
-CLI's grace and SLACK_SECONDS (those are findings). A summary by outcome is printed at the end.
+space (--digits-only: a digit of a real number into another, so that the file stays
+well-formed and its geometry changes), or (one try in five, not with --digits-only) cuts the
+file at a random point in its second half, and meshes it with the default job (element order
+1) under --time-limit. Every try is a line of OUT/log.jsonl (exit code, seconds, last phase,
+last message line); the mutated file and its job are kept when the try ends with a signal,
+exit code 1 or later than the time limit plus the CLI's grace and SLACK_SECONDS (those are
+findings). A summary by outcome is printed at the end.
 Choose a time limit the unchanged models mesh within: otherwise exit 3 says nothing.
+
+--reader-only runs the helper oraclemesh-shape-reader instead of the CLI (the load phase alone:
+read, checks, sewing, tessellation, a probe of the classifier; several times as many tries an
+hour) and names the phase a try stalled in from the helper's stack (where_stalled.py); a stall
+is run again with four times the limit (a loaded machine makes big models slow) and kept,
+stalled or slow, to be confirmed through the CLI; the helper's signals are only counted (the
+CLI turns them into "OpenCASCADE crashed reading").
 """
 import argparse
 import collections
@@ -21,14 +30,27 @@ import re
 import subprocess
 import time
 
+from where_stalled import where_stalled
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 CLI = os.path.join(os.environ.get("ORACLEMESH_BUILD_DIR", os.path.join(HERE, "..", "..", "build")), "oraclemesh")
 SLACK_SECONDS = 5  # process start and a loaded machine, beyond the limit and the CLI's grace
 PHASE = re.compile(r"\[oraclemesh\] ([a-z_ ]+?) \d+%")
+REAL = re.compile(rb"-?\d+\.\d*(?:[eEdD][-+]?\d+)?")  # a real number in STEP, IGES or BREP text
 
 
-def mutated(data, rng):
+def mutated(data, rng, digits_only=False):
     data = bytearray(data)
+    if digits_only:  # the file stays well-formed, its geometry changes (not its references)
+        places = [i for m in REAL.finditer(data, min(200, len(data) - 1)) for i in range(m.start(), m.end())
+                  if chr(data[i]).isdigit()]
+        changes = []
+        for _ in range(rng.randint(1, 3)):
+            position = rng.choice(places)
+            new = rng.choice(b"0123456789")
+            changes.append((position, chr(data[position]), chr(new)))
+            data[position] = new
+        return bytes(data), "changed %s" % changes
     if rng.random() < 0.2:
         cut = rng.randrange(len(data) // 2, len(data))
         return bytes(data[:cut]), "truncated at %d" % cut
@@ -46,11 +68,26 @@ def outcome(code, message):
         return "signal or no end"
     if code == 2:
         for part in ("did not finish reading", "did not finish working", "crashed reading", "has a tolerance",
-                     "whose curve ends", "collapses", "not a readable", "non-finite"):
+                     "whose curve ends", "collapses", "not a readable", "non-finite", "not a finite",
+                     "open shell", "holds no shape"):
             if part in message:
                 return "exit 2: " + part
         return "exit 2: other"
     return "exit %d" % code
+
+
+def reader_outcome(path, seconds):
+    """The helper's outcome on `path` within `seconds`, and its message or the frames naming
+    where it stalled."""
+    result = where_stalled(path, seconds)
+    if result[0] == "stalled":  # or slow on a loaded machine: a second chance, four times as long
+        start = time.monotonic()
+        again = where_stalled(path, 4 * seconds)
+        if again[0] == "stalled":
+            return "helper stalled: " + again[1], again[2][:12]
+        return "helper slow: %s after %.0f s" % (outcome(again[1], again[2]), seconds + time.monotonic() - start), []
+    code, message = result[1], result[2]
+    return ("helper " + outcome(code, message) if code >= 0 else "helper signal %d" % -code), message[:400]
 
 
 def main():
@@ -60,6 +97,8 @@ def main():
     parser.add_argument("--seed", type=int, default=18)
     parser.add_argument("--time-limit", type=float, default=3)
     parser.add_argument("--out", required=True, help="folder for log.jsonl and the findings")
+    parser.add_argument("--digits-only", action="store_true", help="change a digit of a real number only (see above)")
+    parser.add_argument("--reader-only", action="store_true", help="run the helper, not the CLI (see above)")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     models = {path: open(path, "rb").read() for path in args.models}
@@ -69,7 +108,7 @@ def main():
     with open(os.path.join(args.out, "log.jsonl"), "a") as log:
         for i in range(args.tries):
             model = rng.choice(sorted(models))
-            data, how = mutated(models[model], rng)
+            data, how = mutated(models[model], rng, args.digits_only)
             stem = os.path.join(args.out, "try%04d_%s" % (i, os.path.basename(model)))
             with open(stem, "wb") as f:
                 f.write(data)
@@ -77,6 +116,17 @@ def main():
                 json.dump({"inputs": [{"name": "m", "file": os.path.abspath(stem), "material": 1}],
                            "element_order": 1, "limits": {"time_limit": args.time_limit}}, f)
             start = time.monotonic()
+            if args.reader_only:
+                kind, detail = reader_outcome(stem, args.time_limit)
+                counts[kind] += 1
+                log.write(json.dumps({"try": i, "model": os.path.basename(model), "mutation": how,
+                                      "seconds": round(time.monotonic() - start, 2), "outcome": kind,
+                                      "stack" if "stalled" in kind else "message": detail}) + "\n")
+                log.flush()
+                if "stalled" not in kind and "slow" not in kind:  # the helper's signals are contained: counted
+                    os.remove(stem)
+                    os.remove(stem + ".json")
+                continue
             try:
                 run = subprocess.run([CLI, stem + ".json"], capture_output=True, text=True,
                                      timeout=args.time_limit + grace + 60)

@@ -8,6 +8,7 @@ message must name.
 import glob
 import math
 import os
+import resource
 import subprocess
 
 import numpy as np
@@ -38,6 +39,12 @@ EXPECTED = {
     "stl_nan_vertex": ["input 'bone'", "nan_vertex.stl", "not a finite number"],
     "stl_inf_vertex": ["input 'bone'", "inf_vertex.stl", "not a finite number"],
     "off_huge_counts": ["input 'part'", "huge_counts.off", "declares 1000000000 vertices"],
+    # Non-finite numbers in the text formats and NRRD headers: refused where they are read.
+    "obj_nan_vertex": ["input 'bone'", "nan_vertex.obj", "is not a readable obj file", "export it again"],
+    "off_inf_vertex": ["input 'part'", "inf_vertex.off", "no x y z numbers at vertex 2 of 4 (line 4)"],
+    "stl_ascii_nan_vertex": ["input 'bone'", "nan_vertex_ascii.stl", "is not a readable stl file"],
+    "nrrd_nan_spacing": ["input 'scan'", "nan_spacing.nrrd", "axis 0 has spacing nan", "give positive voxel sizes"],
+    "nrrd_inf_origin": ["input 'scan'", "inf_origin.nrrd", "'space origin' is not a finite 3D point"],
     "missing_output_folder": ["output.files[0]", "no_such_folder", "does not exist"],
     "cut_removes_everything": ["the cut 'cutter' removes everything", "'ball'"],
     "tiny_box": ["input 'box'", "tiny_box.brep", "units"],
@@ -71,6 +78,38 @@ def test_run_refuses_bad_input_and_still_works_afterwards(name):
         oraclemesh.run(os.path.join(BAD, name + ".json"))
     for part in EXPECTED[name]:
         assert part in str(err.value), (part, str(err.value))
+    assert len(oraclemesh.run(small_ball()).tets) > 0
+
+
+def sparse_job_file(folder, size):
+    """A job file of `size` bytes that takes no disk (a hole)."""
+    path = os.path.join(str(folder), "job_%d.json" % size)
+    with open(path, "wb") as f:
+        f.truncate(size)
+    return path
+
+
+def test_job_file_over_the_size_limit_is_refused_before_it_is_read(tmp_path):
+    limit = oraclemesh._core.max_job_bytes
+    assert limit == 1 << 30  # the README's "at most 1 GiB of JSON"
+    path = sparse_job_file(tmp_path, limit + 1)
+    expected = ("the job file '%s' is %d bytes of JSON, more than the limit of %d bytes (1 GiB): give large "
+                "surfaces as STL/OBJ/OFF files instead of 'surface' lists" % (path, limit + 1, limit))
+    # The CLI: exit code 2 at once, and its peak memory shows it read none of the file.
+    child = subprocess.Popen([CLI, path], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    message = child.stderr.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)
+    assert child.returncode == 2, (child.returncode, message)
+    assert expected in message, message
+    assert usage.ru_maxrss < 256 * 1024, usage.ru_maxrss  # kB; reading the file would take 1 GiB
+    # oraclemesh.run and run_isolated, in this process and before a child is started.
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for run in (oraclemesh.run, oraclemesh.run_isolated):
+        with pytest.raises(oraclemesh.InputError) as err:
+            run(path)
+        assert str(err.value) == expected
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 256 * 1024
     assert len(oraclemesh.run(small_ball()).tets) > 0
 
 

@@ -7,6 +7,7 @@ mesh is the one `oraclemesh JOB.json` makes alone.
 import csv
 import json
 import os
+import resource
 import shutil
 import signal
 import subprocess
@@ -249,6 +250,24 @@ def test_hang_past_the_deadline_and_missing_input_fail_alone(tmp_path, client):
     assert time.time() - started < 60
 
 
+def test_damaged_cad_files_fail_alone_naming_the_file(tmp_path, client):
+    """Issue 18: a STEP file OpenCASCADE's reader segfaults on and a BREP file its reader loops
+    on, in one batch with a good job: each is an InputError naming its file within its time
+    limit, and the good job meshes (the workers survive)."""
+    bad = os.path.abspath(os.path.join(HERE, "..", "data", "bad", "cad"))
+    damaged = ["step_reader_crash.step", "brep_reader_loop.brep"]
+    jobs = [ball_job("ok")] + [{"inputs": [{"name": "part", "file": os.path.join(bad, name), "material": 1}],
+                                "element_order": 1, "limits": {"time_limit": 4}} for name in damaged]
+    started = time.time()
+    result = oraclemesh.batch(jobs, client=client, out=str(tmp_path / "out"), grace=2, progress=False)
+    rows = sorted(result.rows, key=lambda r: r["case"])
+    assert [r["status"] for r in rows] == ["ok", "failed", "failed"], rows
+    for row, name, what in zip(rows[1:], damaged, ["OpenCASCADE crashed reading", "OpenCASCADE did not finish reading"]):
+        assert row["error_type"] == "InputError", row
+        assert what in row["error"] and name in row["error"], row["error"]
+    assert time.time() - started < 60
+
+
 def test_shipped_inputs_give_the_same_mesh(six_cases, tmp_path, client):
     folder, out, _ = six_cases
     shipped = oraclemesh.batch([os.path.join(folder, "cube_a.json")], client=client,
@@ -282,6 +301,21 @@ def test_study_grid_names_parameters_and_paths(tmp_path):
     moved = tmp_path / "moved"
     shutil.copytree(tmp_path, moved, ignore=shutil.ignore_patterns("moved"))
     assert [x.hash for x in study_cases.collect([str(moved / "study.json")])[0]] == [x.hash for x in found]
+
+
+def test_job_and_base_files_over_the_size_limit_are_refused_unread(tmp_path):
+    """Issue 18's JSON size limit holds for batch jobs, studies' base jobs and folders of jobs
+    too: a sparse file one byte over it is refused by its size (reading it would take 1 GiB)."""
+    huge = str(tmp_path / "huge.json")
+    with open(huge, "wb") as f:
+        f.truncate(oraclemesh._core.max_job_bytes + 1)
+    write_json(tmp_path / "study.json", {"base": "huge.json", "cases": [{"name": "a"}]})
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for jobs in ([huge], [str(tmp_path / "study.json")], [str(tmp_path)]):
+        with pytest.raises(oraclemesh.InputError, match="the job file '%s' is 1073741825 bytes of JSON, more than "
+                                                        "the limit of 1073741824 bytes" % huge):
+            study_cases.collect(jobs)
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 256 * 1024
 
 
 def test_cli_batch_command(tmp_path):

@@ -32,9 +32,12 @@ inline void requireCoordinateRange(const Bbox& box, const std::string& what) {
   const double size = box.diagonal();
   std::ostringstream text;
   text.precision(3);
-  if (far > kMaxCoordinate) {
-    text << what << " has coordinates of " << far << " model units: more than the mesher computes with ("
-         << kMaxCoordinate << "); scale the model to millimetres or metres";
+  // At the bound itself too: OpenCASCADE bounds an unbounded curve or surface there (a line
+  // whose direction a damaged STEP file gave as a zero vector).
+  if (far >= kMaxCoordinate) {
+    text << what << " has coordinates of " << far << " model units, as far as the mesher computes with ("
+         << kMaxCoordinate << "): an unbounded curve or surface (a damaged file: check it with Part > Check "
+         << "geometry or export it again) or a model in the wrong units (scale it to millimetres or metres)";
     throw InputError(text.str());
   }
   if (far > kMaxDistanceInDiagonals * size) {

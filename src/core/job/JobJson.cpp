@@ -1,6 +1,8 @@
 #include "job/JobJson.h"
 
 #include <cmath>
+#include <filesystem>
+#include <system_error>
 
 #include "Error.h"
 
@@ -38,11 +40,22 @@ size_t lineTooDeep(const std::string& text) {
 
 }  // namespace
 
+void requireJobSize(uintmax_t bytes, const std::string& file) {
+  if (bytes <= kMaxBytes) return;
+  throw InputError((file.empty() ? std::string("the job") : "the job file '" + file + "'") + " is " +
+                   std::to_string(bytes) + " bytes of JSON, more than the limit of " + std::to_string(kMaxBytes) +
+                   " bytes (" + std::to_string(kMaxBytes >> 30) +
+                   " GiB): give large surfaces as STL/OBJ/OFF files instead of 'surface' lists");
+}
+
+void requireJobFileSize(const std::string& path) {
+  std::error_code error;
+  const uintmax_t bytes = std::filesystem::file_size(path, error);
+  if (!error) requireJobSize(bytes, path);
+}
+
 json parse(const std::string& text) {
-  if (text.size() > kMaxBytes)
-    throw InputError("the job is " + std::to_string(text.size() >> 20) + " MiB of JSON, more than the limit of " +
-                     std::to_string(kMaxBytes >> 20) + " MiB: give large surfaces as STL/OBJ/OFF files instead of "
-                     "'surface' lists");
+  requireJobSize(text.size());
   if (const size_t line = lineTooDeep(text))
     throw InputError("the job nests lists and objects more than " + std::to_string(kMaxDepth) +
                      " levels deep (line " + std::to_string(line) +

@@ -17,6 +17,13 @@ constexpr int kMaxDepth = 64;
 // 1 GiB of text: a triangle surface of ~10 million triangles sent from FreeCAD fits.
 constexpr size_t kMaxBytes = size_t{1} << 30;
 
+// InputError naming kMaxBytes and the fix when a job of `bytes` bytes is over it; `file` is the
+// job file's path, or empty for JSON text.
+void requireJobSize(uintmax_t bytes, const std::string& file = "");
+// The same for the job file at `path`, by its size on disk, before anything of it is read
+// (a file that cannot be measured, a pipe, is left to the reading).
+void requireJobFileSize(const std::string& path);
+
 // InputError for text over kMaxBytes, nested deeper than kMaxDepth (with the line), not JSON,
 // or with a number out of double range (1e999).
 json parse(const std::string& text);

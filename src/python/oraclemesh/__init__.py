@@ -120,6 +120,7 @@ _SURFACE_FILE_EXTENSIONS = (".stl", ".obj", ".off")
 
 
 def _read_job_file(path):
+    _core.require_job_file_size(path)  # a job over the limit is refused before it is read
     try:
         with open(path) as f:
             return f.read()
@@ -243,8 +244,7 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         if isinstance(job, (str, os.PathLike)):
             job_path = os.path.abspath(os.fspath(job))
             base_directory = base_directory or os.path.dirname(job_path)
-            with open(job_path) as f:
-                job = json.load(f)
+            job = json.loads(_read_job_file(job_path))
         brep_inputs = _opencascade_inputs(job)
         job = with_image_files(job, tmp)
         job_path = os.path.join(tmp, "job.json")

@@ -139,6 +139,43 @@ void requireFiniteIgesNumbers(const std::string& path, const std::string& what) 
   check();
 }
 
+// The section letter of an IGES line (S, G, D, P, T) as OpenCASCADE's line reader finds it:
+// column 73 before a sequence number, else, on a line not to the standard, the last letter
+// before the trailing number; 0 for neither.
+char igesSection(std::string line) {
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+  if (line.size() > 73) {
+    const std::string sequence = line.substr(73);
+    const size_t digit = sequence.find_first_not_of(' ');
+    if (digit != std::string::npos && std::isdigit(static_cast<unsigned char>(sequence[digit])) &&
+        std::string("SGDPT").find(line[72]) != std::string::npos)
+      return line[72];
+  }
+  line.erase(line.find_last_not_of(' ') + 1);
+  size_t end = line.size();
+  while (end > 0 && std::isdigit(static_cast<unsigned char>(line[end - 1]))) --end;
+  if (end == line.size()) return 0;
+  while (end > 0 && line[end - 1] == ' ') --end;
+  return end > 0 && std::string("SGDPT").find(line[end - 1]) != std::string::npos ? line[end - 1] : 0;
+}
+
+// OpenCASCADE's IGES parser (IGESFile, C with static state) files parameter lines under the
+// directory entry last read. In a file whose parameter section comes before any directory entry
+// it uses the entry left from the previous IGES file this process read, freed since: a crash
+// (a segfault in iges_newparam), or worse. Such a file is damaged anyway.
+void requireIgesDirectoryBeforeParameters(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (long number = 1; std::getline(in, line); ++number) {
+    const char section = igesSection(line);
+    if (section == 'D') return;
+    if (section == 'P')
+      throw InputError(what + " is not a readable IGES file: its parameter data (line " + std::to_string(number) +
+                       ") comes before any directory entry (D lines); the file is damaged or cut, export it "
+                       "again (IGES 5.3, or better STEP) from the CAD tool");
+  }
+}
+
 }  // namespace
 
 TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
@@ -160,6 +197,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
       shape = reader.OneShape();
     } else if (ext == "iges" || ext == "igs") {
       requireFiniteIgesNumbers(path, what);
+      requireIgesDirectoryBeforeParameters(path, what);
       IGESControl_Reader reader;
       if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
         throw InputError(what + " is not a readable IGES file: export it again (IGES 5.3, or better STEP) from the CAD tool");

@@ -12,7 +12,7 @@ import json
 import os
 import re
 
-from .. import InputError
+from .. import InputError, _core
 
 # Input kinds that name a file the core reads.
 FILE_KEYS = ("file", "image")
@@ -76,6 +76,7 @@ def _from_folder(folder):
 
 
 def _from_file(path, explicit):
+    _core.require_job_file_size(path)  # over the limit: refused by its size, before it is read
     try:
         with open(path) as f:
             data = json.load(f)
@@ -122,6 +123,7 @@ def _from_study(study, folder, stem, source):
     base = study["base"]
     if isinstance(base, str):
         base_path = os.path.join(folder, base)
+        _core.require_job_file_size(base_path)
         try:
             with open(base_path) as f:
                 base = json.load(f)
