@@ -17,6 +17,13 @@ class InputError : public Error {
   using Error::Error;
 };
 
+// An engine made no tetrahedron at all: the sizes are larger than every part, or an input
+// encloses (almost) nothing. The pipeline adds which inputs and what they enclose.
+class NoTetrahedraError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // The mesher stopped on a limit (vertex count, time) or was cancelled.
 class LimitError : public Error {
  public:

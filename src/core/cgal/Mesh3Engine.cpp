@@ -422,8 +422,8 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
                                         p::pointer_to_stop_atomic_boolean = &stop));
   throwIfStopped("refinement");
   if (c3t3.number_of_cells_in_complex() == 0)
-    throw InputError("Mesh_3 produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
-                     "lower cell_size and facet_size below the smallest part's thickness");
+    throw NoTetrahedraError("Mesh_3 produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
+                     "lower cell_size and facet_size below the smallest part's thickness.");
   timer.finish("refine");
 
   phase = "optimize";  // the labeling function reports refinement progress only

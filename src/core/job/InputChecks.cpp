@@ -1,5 +1,6 @@
 #include "job/InputChecks.h"
 
+#include <sstream>
 #include <string>
 
 #include "Error.h"
@@ -45,6 +46,32 @@ void checkCutsLeaveMaterial(const HierarchicalOracle& oracle) {
                    materials + ") lies inside a cut listed above it, so nothing is left to mesh: move or shrink the "
                    "cut, or list it below the inputs it must not remove (a cut removes what lies inside it from "
                    "itself and every input listed after it)");
+}
+
+std::string whatTheInputsEnclose(const JobSpec& job, const HierarchicalOracle& oracle) {
+  std::ostringstream out;
+  out.precision(4);
+  out << " The material inputs:";
+  int listed = 0;
+  const int kListed = 8;
+  int materials = 0;
+  for (const OracleEntry& e : oracle.entries()) {
+    if (e.role != Role::Material) continue;
+    if (++materials > kListed) continue;
+    const Source& source = *e.source;
+    const Bbox box = source.bbox();
+    const double boxVolume = (box.max[0] - box.min[0]) * (box.max[1] - box.min[1]) * (box.max[2] - box.min[2]);
+    out << (listed++ ? "; " : " ") << "'" << source.name() << "'";
+    // "<input>#k" names the k-th solid of the job input <input>.
+    const std::string input = source.name().substr(0, source.name().rfind('#'));
+    for (const InputSpec& spec : job.inputs)
+      if (spec.name == input && !spec.file.empty()) out << " (file " << spec.file << ")";
+    out << " encloses " << source.volume() << " model units^3 in a box of " << boxVolume;
+  }
+  if (materials > kListed) out << "; and " << materials - kListed << " more";
+  out << ". A part whose CAD is invalid can enclose a small part of its box or nothing: check each with "
+         "Part > Check geometry in FreeCAD, repair it or export it again.";
+  return out.str();
 }
 
 }  // namespace oraclemesh

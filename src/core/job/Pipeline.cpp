@@ -4,6 +4,7 @@
 #include <string>
 #include <utility>
 
+#include "Error.h"
 #include "domain/HierarchicalOracle.h"
 #include "improve/MeshImprovement.h"
 #include "job/EngineRun.h"
@@ -69,9 +70,15 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("features");
   control.checkpoint();
 
-  EngineRun run = job.engine == Engine::Thesis
-                      ? runThesisEngine(job, oracle, criteria, features, control, clock, report.warnings)
-                      : runMesh3Engine(job, oracle, criteria, features.graph, control, clock);
+  EngineRun run = [&] {
+    try {
+      return job.engine == Engine::Thesis
+                 ? runThesisEngine(job, oracle, criteria, features, control, clock, report.warnings)
+                 : runMesh3Engine(job, oracle, criteria, features.graph, control, clock);
+    } catch (const NoTetrahedraError& e) {
+      throw InputError(e.what() + whatTheInputsEnclose(job, oracle));
+    }
+  }();
   TetMesh& mesh = run.mesh;
   report.engine_run = std::move(run.report);
 

@@ -121,8 +121,8 @@ TetMesh meshWithRuleSetT(const HierarchicalOracle& oracle, const FeatureGraph& f
   }
   TetMesh mesh = refiner.run();
   if (mesh.tets.empty())
-    throw InputError("the thesis engine produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
-                     "lower cell_size and facet_size below the smallest part's thickness");
+    throw NoTetrahedraError("the thesis engine produced no tetrahedra: the inputs may be smaller than the sizes asked for; "
+                     "lower cell_size and facet_size below the smallest part's thickness.");
   return mesh;
 }
 
