@@ -25,6 +25,7 @@
 #include <string>
 #include <thread>
 #include <functional>
+#include <set>
 #include <unordered_map>
 
 #include "Error.h"
@@ -309,6 +310,31 @@ TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector
     // CGAL cells are positively oriented, which is the orientation TetMesh promises.
     mesh.tets.push_back({indexOf(c->vertex(0)), indexOf(c->vertex(1)), indexOf(c->vertex(2)), indexOf(c->vertex(3))});
     mesh.tet_materials.push_back(c3t3.subdomain_index(c));
+  }
+  // A protected edge can be an edge of the triangulation whose cells all lie outside the
+  // complex (their circumcentres outside every material: a sharp edge along a thin wedge,
+  // screw.step at the default size); the mesh would lose it. As the thesis engine's last
+  // resort for T1.3, the cells around it whose barycentre lies in a material are taken with
+  // that material.
+  const Tr& tr = c3t3.triangulation();
+  std::set<Tr::Cell_handle> takenAroundEdges;
+  for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e) {
+    auto circ = tr.incident_cells(*e), done = circ;
+    bool inComplex = false;
+    do inComplex = inComplex || c3t3.is_in_complex(circ);
+    while (++circ != done);
+    if (inComplex) continue;
+    do {
+      if (tr.is_infinite(circ) || takenAroundEdges.count(circ)) continue;
+      const Point_3 barycentre = CGAL::centroid(tr.point(circ->vertex(0)).point(), tr.point(circ->vertex(1)).point(),
+                                                tr.point(circ->vertex(2)).point(), tr.point(circ->vertex(3)).point());
+      const auto label = domain.is_in_domain_object()(barycentre);
+      if (!label) continue;
+      takenAroundEdges.insert(circ);
+      mesh.tets.push_back(
+          {indexOf(circ->vertex(0)), indexOf(circ->vertex(1)), indexOf(circ->vertex(2)), indexOf(circ->vertex(3))});
+      mesh.tet_materials.push_back(static_cast<int>(*label));
+    } while (++circ != done);
   }
   for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e) {
     const Tr::Vertex_handle a = e->first->vertex(e->second);
