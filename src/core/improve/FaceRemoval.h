@@ -1,7 +1,6 @@
 #pragma once
 // The 2-3 flip: the face shared by two tets of one material becomes the edge between their
-// apexes, with three tets around it. (Multi-face removal, its generalisation to a stack of
-// faces, is not implemented.)
+// apexes, with three tets around it.
 #include <cstdint>
 
 #include "improve/ImprovementMesh.h"
