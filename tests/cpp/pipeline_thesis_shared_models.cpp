@@ -72,8 +72,8 @@ SharedModelRun meshSharedModel(const std::string& fileName, const std::string& n
 // itself stayed in the mesh (0.000000000000004 degrees after the snap). The engine now refines
 // a flat cell at its centroid, which always removes it.
 TEST(ThesisSharedModels, UJointFlatCellBetweenParallelEdgesIsRefined) {
-  // Default sizes and sharp edges, the engine's own mesh (no sliver perturbation, which does
-  // not move feature vertices and so could not have opened the flat cell either).
+  // Default sizes and sharp edges, the engine's refinement alone (no sliver rule or rule P,
+  // which do not move feature vertices and so could not have opened the flat cell either).
   const SharedModelRun run = meshSharedModel("U_Joint_2.stp", "UJoint", {{"optimize", {{"perturb", false}}}});
   const double brepVolume = run.brep_volume;
   const JobResult& r = run.result;
@@ -128,9 +128,8 @@ TEST(ThesisSharedModels, PartStepTangentCurvesDoNotCascadeIntoSlivers) {
   const double meshed = test::volumePerMaterial(m).at(1);
   EXPECT_NEAR(meshed, brepVolume, 0.01 * brepVolume);
 
-  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now 6,328, 61 and 0.27: CGAL's
-  // perturbation reached 2.3 degrees but flipped one constrained subsegment out of the mesh,
-  // so the pipeline keeps the mesh before it (the segments are the guarantee).
+  // Before: 9,863 tets, 937 under 10 degrees, min 0.34. Now 6,299, 33 and 0.27 (a sliver
+  // across a curved face, with two faces on the boundary, that the improvement stage keeps).
   EXPECT_LT(m.tets.size(), 7000u);
   EXPECT_LT(quality.at("min_dihedral_histogram_10deg").at(0).get<int>(), 150);
   EXPECT_GT(quality.at("min_dihedral_deg").get<double>(), 0.2);

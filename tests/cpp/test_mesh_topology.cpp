@@ -180,31 +180,6 @@ TEST(MeshTopology, AFeatureEdgeThatIsNoTetEdgeIsAnErrorNamingIt) {
   }
 }
 
-// A rebuilt mesh (CGAL's perturbation: vertices moved and renumbered) keeps a recorded
-// boundary entry only where a point is still exactly where it was.
-TEST(MeshTopology, BoundaryEntriesFollowUnmovedPointsOnly) {
-  TetMesh before = test::kuhnCube();
-  before.vertex_boundary_entry = {0, 1, 2, -1, 3, 4, 5, 6};
-  TetMesh after = before;
-  // Reversed numbering, as a renumbering optimizer may leave it.
-  std::reverse(after.points.begin(), after.points.end());
-  for (auto& tet : after.tets)
-    for (int64_t& v : tet) v = 7 - v;
-  after.vertex_boundary_entry.clear();
-  after.points[7 - 5][2] += 1e-12;  // old point 5 moved, by a hair
-  after.points[7 - 6] = {0.5, 0.5, 0.5};  // old point 6 moved far
-  carryBoundaryEntries(before, after);
-  ASSERT_EQ(after.vertex_boundary_entry.size(), after.points.size());
-  for (int64_t old = 0; old < 8; ++old) {
-    const int expected = (old == 5 || old == 6) ? -1 : before.vertex_boundary_entry[old];
-    EXPECT_EQ(after.vertex_boundary_entry[7 - old], expected) << "old point " << old;
-  }
-  // Nothing recorded before: nothing after (the snap projects every vertex).
-  before.vertex_boundary_entry.clear();
-  carryBoundaryEntries(before, after);
-  EXPECT_TRUE(after.vertex_boundary_entry.empty());
-}
-
 TEST(MeshTopology, BoundaryEntriesOfTheWrongLengthAreAnError) {
   TetMesh cube = test::kuhnCube();
   cube.vertex_boundary_entry = {0, 1};

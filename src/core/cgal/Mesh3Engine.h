@@ -42,13 +42,4 @@ TetMesh meshWithCgalMesh3(const HierarchicalOracle& oracle, const FeatureGraph& 
                           const Mesh3Options& options, const RunControl& control,
                           Mesh3Statistics* statistics = nullptr);
 
-// Sliver removal for a mesh from any Delaunay refiner: rebuilds the C3T3 Mesh_3 would have
-// made (the mesh must be the regular triangulation of its points and vertex_weights,
-// restricted to its tets; feature edges become protected curves), runs CGAL perturb_mesh_3
-// and exude_mesh_3 as `options` say with the oracle as the domain, and replaces `mesh` with
-// the result (vertices renumbered; feature vertices and corners are not moved). Throws Error
-// naming the offending tet or edge when the mesh is not that triangulation.
-void optimizeTetMeshWithCgal(TetMesh& mesh, const HierarchicalOracle& oracle, const Mesh3Options& options,
-                             const RunControl& control, Mesh3Statistics* statistics = nullptr);
-
 }  // namespace oraclemesh

@@ -105,12 +105,14 @@ struct JobSpec {
   MaterialAssignment material_assignment = MaterialAssignment::Circumcenter;
   std::vector<Point3> initial_points;
   int element_order = 2;
+  // Sliver removal: Mesh_3 engine, CGAL's perturbation and exudation; thesis engine, its
+  // sliver rule and rule P (perturb; exude is Mesh_3's only).
   bool perturb = true;
   bool exude = true;
   bool improve = true;  // the improvement stage after the snap (improve/MeshImprovement)
   // No time limit by default: a time-limited optimizer gives machine-dependent meshes.
   double optimize_time_limit = 0;
-  double sliver_bound = 10;  // dihedral angle (degrees) perturbation and exudation aim for
+  double sliver_bound = 10;  // dihedral angle (degrees) sliver removal aims for (thesis: + 5)
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;

@@ -21,8 +21,7 @@ FeatureEdgeSizes localEdgeSizes(const FeatureGraph& features, const CriteriaTabl
   return sizes;
 }
 
-}  // namespace
-
+// The CGAL Mesh_3 settings of a job.
 Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
   Mesh3Options options;
   options.criteria = criteria;
@@ -34,6 +33,8 @@ Mesh3Options mesh3Options(const JobSpec& job, const CriteriaTable& criteria) {
   options.seed = job.seed;
   return options;
 }
+
+}  // namespace
 
 EngineRun runMesh3Engine(const JobSpec& job, const HierarchicalOracle& oracle, const CriteriaTable& criteria,
                          const FeatureGraph& features, const RunControl& control, PhaseClock& clock) {

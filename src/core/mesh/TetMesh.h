@@ -34,7 +34,7 @@ struct TetMesh {
   std::vector<int> vertex_boundary_entry;
   // Weight (squared ball radius) of each vertex in the regular triangulation the mesh came
   // from; empty means all zero (a Delaunay mesh). Mesh_3's protecting balls and exudation
-  // leave weights, and the sliver optimizers need them to rebuild that same triangulation.
+  // leave weights; nothing in the pipeline reads them.
   std::vector<double> vertex_weights;
 
   // Second order (empty when element_order == 1): mid-edge nodes per tet in the order

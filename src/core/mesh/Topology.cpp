@@ -289,18 +289,4 @@ ConformityReport checkConformity(const TetMesh& mesh) {
   return report;
 }
 
-void carryBoundaryEntries(const TetMesh& from, TetMesh& to) {
-  requireConsistentIndices(from);
-  to.vertex_boundary_entry.clear();
-  if (from.vertex_boundary_entry.empty()) return;
-  std::map<Point3, int> entryAt;
-  for (size_t i = 0; i < from.points.size(); ++i)
-    if (from.vertex_boundary_entry[i] >= 0) entryAt.emplace(from.points[i], from.vertex_boundary_entry[i]);
-  to.vertex_boundary_entry.assign(to.points.size(), -1);
-  for (size_t i = 0; i < to.points.size(); ++i) {
-    auto it = entryAt.find(to.points[i]);
-    if (it != entryAt.end()) to.vertex_boundary_entry[i] = it->second;
-  }
-}
-
 }  // namespace oraclemesh

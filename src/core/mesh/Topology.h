@@ -81,10 +81,4 @@ ConformityReport checkConformity(const TetMesh& mesh);
 // Per material, the pieces its tetrahedra form when tets sharing a face are joined.
 std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh);
 
-// After a step that rebuilt `to` from `from` and may have moved or renumbered points (CGAL's
-// sliver perturbation): each point of `to` gets the vertex_boundary_entry of the point of
-// `from` at exactly the same coordinates, -1 where none is (a moved point is no longer known
-// to be on that boundary). Empty when `from` has none. Only exact coordinates are trusted.
-void carryBoundaryEntries(const TetMesh& from, TetMesh& to);
-
 }  // namespace oraclemesh

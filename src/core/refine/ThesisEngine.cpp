@@ -50,12 +50,13 @@ TetMesh RuleSetTRefiner::run() {
     phase("initial_points");
     control_.report("refine", 0);
     refine();
+    phase("refine");
     refineSlivers();
+    phase("sliver_rule");
   } catch (const LimitError&) {
     stats_.partial = extract();
     throw;
   }
-  phase("refine");
   if (hook_) {
     hook_->refinementDone();
     phase(hook_->checkPhase());
