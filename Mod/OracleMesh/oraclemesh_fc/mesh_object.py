@@ -77,7 +77,7 @@ PROPERTIES = (
      "B-rep edges whose faces meet at more than this angle are kept as mesh edges (0 = no "
      "sharp edges and no junctions; extra edges are kept)",
      30.0),
-    ("App::PropertyBool", "Optimize", "Mesh", "Remove slivers (perturb and exude)", True),
+    ("App::PropertyBool", "Optimize", "Mesh", "Remove slivers (thesis: sliver rule, vertex moves; CGAL: perturb, exude)", True),
     ("App::PropertyInteger", "Seed", "Mesh", "Random seed (the same job gives the same mesh)", 0),
     ("App::PropertyInteger", "MaxVertices", "Limits",
      "Refuse jobs that would need more vertices than this", 5000000),

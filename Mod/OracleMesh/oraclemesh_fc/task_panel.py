@@ -315,7 +315,8 @@ class TaskPanel:
                                       "faces and curves")
         grid.addRow("Element order", self.element_order)
         self.optimize = QtGui.QCheckBox("Remove slivers")
-        self.optimize.setToolTip("Remove flat tetrahedra after meshing (perturb and exude)")
+        self.optimize.setToolTip("Remove flat tetrahedra (thesis engine: its sliver rule and vertex "
+                                 "moves; CGAL: perturb and exude)")
         grid.addRow(self.optimize)
         layout.addWidget(box)
 
