@@ -291,7 +291,6 @@ TetMesh extractTetMesh(const C3t3& c3t3, const Domain& domain, const std::vector
     auto [it, added] = index.emplace(v, static_cast<int64_t>(mesh.points.size()));
     if (added) {
       mesh.points.push_back(toPoint3(c3t3.triangulation().point(v).point()));
-      mesh.vertex_weights.push_back(c3t3.triangulation().point(v).weight());
       const int dim = c3t3.in_dimension(v);
       mesh.vertex_dimension.push_back(dim);
       int curve = -1;

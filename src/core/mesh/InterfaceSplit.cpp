@@ -18,7 +18,6 @@ int64_t copyPoint(TetMesh& mesh, int64_t v) {
   if (!mesh.vertex_dimension.empty()) mesh.vertex_dimension.push_back(mesh.vertex_dimension[v]);
   if (!mesh.vertex_curve.empty()) mesh.vertex_curve.push_back(mesh.vertex_curve[v]);
   if (!mesh.vertex_boundary_entry.empty()) mesh.vertex_boundary_entry.push_back(mesh.vertex_boundary_entry[v]);
-  if (!mesh.vertex_weights.empty()) mesh.vertex_weights.push_back(mesh.vertex_weights[v]);
   return static_cast<int64_t>(mesh.points.size()) - 1;
 }
 

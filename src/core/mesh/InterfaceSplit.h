@@ -36,7 +36,7 @@ struct InterfaceSplitStats {
 //  - Tets keep their index, order, material and orientation: element faces found before the
 //    split (meshSurfaces) name the same faces after it.
 //  - Copies keep the coordinates (nodes stay on the CAD) and the per-vertex data of their
-//    original (vertex_dimension, vertex_curve, vertex_boundary_entry, vertex_weights).
+//    original (vertex_dimension, vertex_curve, vertex_boundary_entry).
 //  - Boundary triangles take the copies of their material_in side. A feature edge becomes
 //    one edge per distinct pair of new ends that tets have it with (the first in its place,
 //    the others appended with the same curve id), so every feature edge stays a tet edge.

@@ -92,7 +92,6 @@ int makeSecondOrder(TetMesh& mesh, const MidNodePlacer& place) {
     if (hasCurves) mesh.vertex_curve.push_back(feature != curveOfFeatureEdge.end() ? feature->second : -1);
     if (hasBoundaryEntries) mesh.vertex_boundary_entry.push_back(-1);  // placed by the caller, on what it knows
   }
-  mesh.vertex_weights.clear();  // a tet10 mesh is no longer a triangulation of its nodes
   mesh.tet_mid_nodes.resize(mesh.tets.size());
   for (size_t t = 0; t < mesh.tets.size(); ++t)
     for (int e = 0; e < 6; ++e) mesh.tet_mid_nodes[t][e] = firstMidNode + edgesOfTet[t][e];

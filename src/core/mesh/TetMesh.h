@@ -32,10 +32,6 @@ struct TetMesh {
   // empty means unknown for every vertex. The boundary snap takes such vertices as on their
   // face instead of projecting them again. Whoever moves a point must reset its entry.
   std::vector<int> vertex_boundary_entry;
-  // Weight (squared ball radius) of each vertex in the regular triangulation the mesh came
-  // from; empty means all zero (a Delaunay mesh). Mesh_3's protecting balls and exudation
-  // leave weights; nothing in the pipeline reads them.
-  std::vector<double> vertex_weights;
 
   // Second order (empty when element_order == 1): mid-edge nodes per tet in the order
   // 01, 12, 20, 03, 13, 23 (= FreeCAD's 12, 23, 31, 14, 24, 34), indices into `points`.

@@ -134,7 +134,6 @@ void requireConsistentIndices(const TetMesh& mesh) {
   requireLength(mesh.vertex_dimension.size(), n, "vertex dimensions", true);
   requireLength(mesh.vertex_curve.size(), n, "vertex curve ids", true);
   requireLength(mesh.vertex_boundary_entry.size(), n, "vertex boundary entries", true);
-  requireLength(mesh.vertex_weights.size(), n, "vertex weights", true);
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     for (int64_t v : mesh.tets[t]) requireIndex(v, n, "tet", t);
     if (!mesh.tet_mid_nodes.empty())
