@@ -72,6 +72,21 @@ TEST(JobValidation, WrongTypesNameTheirKey) {
   EXPECT_TRUE(contains(parseError(job), "inputs[0].sphere.center[1] must be a number, got \"y\""));
 }
 
+TEST(JobValidation, ContactToleranceIsADistanceAtOrAboveZero) {
+  json job = ballJob();
+  job["contact_tolerance"] = "0.01";
+  EXPECT_EQ(parseError(job), "contact_tolerance must be a number, got \"0.01\": give a distance in model units (mm) "
+                             "at or above 0: parts closer than it are bonded");
+  job["contact_tolerance"] = -0.01;
+  EXPECT_EQ(parseError(job), "contact_tolerance = -0.01 is negative: give a distance in model units (mm) at or above 0 "
+                             "(parts closer than it are bonded), or leave it out for the CAD's own tolerance");
+  job["contact_tolerance"] = 0;
+  EXPECT_EQ(JobSpec::fromJson(job, ".").contact_tolerance, 0.0);
+  job["contact_tolerance"] = 0.05;
+  EXPECT_EQ(JobSpec::fromJson(job, ".").contact_tolerance, 0.05);
+  EXPECT_FALSE(JobSpec::fromJson(ballJob(), ".").contact_tolerance.has_value());
+}
+
 TEST(JobValidation, NumbersBeyondDoubleRangeAreNamed) {
   // Used to be "internal error: [json.exception.out_of_range.406] number overflow".
   const std::string message =

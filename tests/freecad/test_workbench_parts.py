@@ -31,6 +31,11 @@ def test_workbench_parts(run_freecad):
     assert r["report_features"]["junctions"] is True
     # A mesh object made without an engine meshes with the default, Rule Set T (issue 7).
     assert r["new_mesh_engine"] == r["report_engine"] == "thesis"
+    # ContactTolerance 0 leaves the core's default (1e-6 of the diagonal here, FreeCAD's
+    # primitives carry 1e-7); makeMesh(contact_tolerance=...) reaches the job.
+    assert r["report_contact_tolerance"]["from"] == "diagonal", r["report_contact_tolerance"]
+    assert abs(r["report_contact_tolerance"]["value"] - 1e-6 * r["bbox_diagonal"]) < 1e-12
+    assert r["given_contact_tolerance"] == {"value": 0.02, "from": "job"}
     assert r["feature_edges"] == r["report_counts"]["feature_edges"] > 0
     assert r["feature_edge_nodes_exist"]
     # The workbench measures the same worst element as the core.
@@ -55,7 +60,7 @@ def test_workbench_parts(run_freecad):
     check_exported_inp_in_calculix(r["exports"][".inp"], meshio)
     assert "xyz" in r["bad_extension"] and ".vtu" in r["bad_extension"]
 
-    assert len(r["restored_properties"]) == 5 and all(r["restored_properties"].values()), \
+    assert len(r["restored_properties"]) == 6 and all(r["restored_properties"].values()), \
         r["restored_properties"]
     # Saved before the Engine property: kept on Mesh_3, which meshed it then.
     assert r["restored_engine"] == "cgal" and r["restored_junctions"] is True

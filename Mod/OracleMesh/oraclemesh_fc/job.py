@@ -385,6 +385,9 @@ def build_job(mesh_obj):
         "limits": {"max_vertices": int(mesh_obj.MaxVertices),
                    "time_limit": float(mesh_obj.TimeLimit)},
     }
+    contact_tolerance = _value(getattr(mesh_obj, "ContactTolerance", 0.0))
+    if contact_tolerance > 0:  # 0: the core's default from the shapes
+        job["contact_tolerance"] = contact_tolerance
     if mesh_obj.OutputFiles or mesh_obj.OutputReport:
         job["output"] = {}
         if mesh_obj.OutputFiles:

@@ -70,6 +70,10 @@ PROPERTIES = (
      "(6 / 8 / 12 / 18 / 24 from very coarse to very fine), two segments per short sharp edge, "
      "walls several sizes thick, graded; off (the default) = the sizes above alone",
      list(FINENESS_NAMES)),
+    ("App::PropertyLength", "ContactTolerance", "Mesh",
+     "Parts closer than this touch and are bonded; parts farther apart stay apart (with a "
+     "Fineness, the sizes resolve the gap). 0 = automatic: the CAD's own tolerance (the "
+     "shapes' tolerances), at least 1e-6 of the model diagonal", 0.0),
     ("App::PropertyIntegerConstraint", "ElementOrder", "Mesh",
      "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
      (2, 1, 2, 1)),

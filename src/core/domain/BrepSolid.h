@@ -31,6 +31,9 @@ class BrepSolid : public Source, public BrepTopology {
     // Open shells (and loose faces) left out because solids remain: one sentence each,
     // naming the input, the file, the shell's place in the file and its free edges.
     std::vector<std::string> warnings;
+    // The largest length uncertainty a STEP file declares, in model units (0: none declared,
+    // or not a STEP file): with the shapes' own tolerances, the CAD's idea of touching.
+    double declared_uncertainty = 0;
   };
   // Reads a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file. A closed shell
   // (or faces that sew into one) is made a solid. Open shells beside at least one solid are

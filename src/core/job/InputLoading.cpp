@@ -23,6 +23,7 @@ struct LoadedInput {
   std::vector<OracleEntry> entries;
   std::vector<std::string> kinds;  // per entry: "B-rep solid", "triangle surface", ...
   std::vector<std::string> warnings;
+  double declared_uncertainty = 0;  // a STEP file's (BrepSolid::Loaded)
 };
 
 LoadedInput loadInput(const InputSpec& in, const RunControl& control, double progress) {
@@ -68,6 +69,7 @@ LoadedInput loadInput(const InputSpec& in, const RunControl& control, double pro
           solids == 1 ? "B-rep solid" : "B-rep compound (" + std::to_string(solids) + " solids)");
     }
     loaded.warnings = std::move(brep.warnings);
+    loaded.declared_uncertainty = brep.declared_uncertainty;
   }
   return loaded;
 }
@@ -85,6 +87,10 @@ LoadedInputs loadInputs(const JobSpec& job, const RunControl& control) {
       all.inputs.push_back(in.name);
     }
     for (std::string& w : loaded.warnings) all.warnings.push_back(std::move(w));
+    if (loaded.declared_uncertainty > all.declared_uncertainty) {
+      all.declared_uncertainty = loaded.declared_uncertainty;
+      all.declared_uncertainty_by = in.name;
+    }
     control.report("load", double(i + 1) / job.inputs.size());
     control.checkpoint();
   }

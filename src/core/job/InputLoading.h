@@ -19,6 +19,10 @@ struct LoadedInputs {
   std::vector<std::string> kinds;
   std::vector<std::string> inputs;
   std::vector<std::string> warnings;
+  // The largest length uncertainty a STEP input declares (model units, 0: none) and that
+  // input's name (job/ContactTolerance).
+  double declared_uncertainty = 0;
+  std::string declared_uncertainty_by;
 };
 
 // Reports progress as phase "load" and checks for cancellation after each input. Throws

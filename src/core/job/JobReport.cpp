@@ -113,7 +113,15 @@ json criteriaReportJson(const JobReport& r) {
   json crit = {{"default", criteriaJson(r.criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : r.criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
   crit["fineness"] = r.fineness;
-  if (r.criteria.field) crit["size_field"] = sizeFieldJson(r.fineness, *r.criteria.field);
+  if (r.criteria.field) {
+    crit["size_field"] = sizeFieldJson(r.fineness, *r.criteria.field);
+    // Gaps the field resolves, narrowest first: a width at the CAD's tolerance is a pair the
+    // user may want bonded (contact_tolerance).
+    json gaps = json::array();
+    for (const PartGap& g : r.gaps)
+      gaps.push_back({{"between", {r.inputs[g.entry].name, r.inputs[g.other].name}}, {"width", g.width}, {"at", g.at}});
+    crit["size_field"]["gaps"] = gaps;
+  }
   if (r.engine_run.mesh3) {
     const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
     crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;
@@ -354,6 +362,7 @@ json reportJson(const JobReport& r) {
   report["volume_per_material"] = volumes;
   report["quality"] = qualityJson(r.quality);
   report["conformity"] = conformityJson(r.conformity);
+  report["contact_tolerance"] = {{"value", r.contact_tolerance.value}, {"from", r.contact_tolerance.from}};
   report["self_check"] = selfCheckJson(r.self_check, r.checks);
   if (r.engine_run.thesis) {
     report["thesis"] = thesisJson(*r.engine_run.thesis, r.inputs);

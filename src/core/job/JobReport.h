@@ -15,6 +15,7 @@
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureSeparation.h"
 #include "features/InputAngles.h"
+#include "job/ContactTolerance.h"
 #include "job/JobSpec.h"
 #include "job/MeshSelfCheck.h"
 #include "improve/MeshImprovement.h"
@@ -26,6 +27,7 @@
 #include "mesh/Surfaces.h"
 #include "mesh/Topology.h"
 #include "refine/ThesisEngine.h"
+#include "sizing/GeometrySizes.h"
 
 namespace oraclemesh {
 
@@ -110,6 +112,8 @@ struct JobReport {
   double bbox_diagonal = 0;
   CriteriaTable criteria;
   std::string fineness = "off";  // the sizing field's preset (criteria.fineness), or "off"
+  ContactTolerance contact_tolerance;
+  std::vector<PartGap> gaps;  // between entries, from the sizing field (fineness set)
   FeatureReport features;
   std::vector<SmallInputAngle> small_input_angles;
   double small_input_angle_limit_deg = 0;

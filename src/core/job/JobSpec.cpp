@@ -373,7 +373,8 @@ const char* materialAssignmentName(MaterialAssignment assignment) {
 JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
-                          "element_order", "limits", "seed", "checks", "interfaces", "output"},
+                          "element_order", "limits", "seed", "checks", "interfaces", "output",
+                          "contact_tolerance"},
                     "the job");
   JobSpec spec;
   if (!job.contains("inputs") || !job["inputs"].is_array() || job["inputs"].empty())
@@ -512,6 +513,16 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (job.contains("seed"))
     spec.seed = static_cast<unsigned>(jobjson::integer(job["seed"], "seed", 0, UINT32_MAX,
                                                        "the seed is a non-negative 32-bit integer"));
+  if (job.contains("contact_tolerance")) {
+    const double tolerance =
+        jobjson::number(job["contact_tolerance"], "contact_tolerance",
+                        "give a distance in model units (mm) at or above 0: parts closer than it are bonded");
+    if (tolerance < 0)
+      throw InputError("contact_tolerance = " + shortDump(job["contact_tolerance"]) +
+                       " is negative: give a distance in model units (mm) at or above 0 (parts closer than it are "
+                       "bonded), or leave it out for the CAD's own tolerance");
+    spec.contact_tolerance = tolerance;
+  }
   if (job.contains("checks")) {
     const json& c = job["checks"];
     if (!c.is_string() || (c != "warn" && c != "error"))

@@ -113,6 +113,11 @@ struct JobSpec {
   // No time limit by default: a time-limited optimizer gives machine-dependent meshes.
   double optimize_time_limit = 0;
   double sliver_bound = 10;  // dihedral angle (degrees) sliver removal aims for (thesis: + 5)
+  // "contact_tolerance": parts closer than this touch and are bonded, parts farther apart stay
+  // apart (the gap sizing, the self-check's joined-parts test). Unset: max(1e-6 of the
+  // diagonal, the inputs' shape tolerances, a STEP file's declared uncertainty)
+  // (job/ContactTolerance.h).
+  std::optional<double> contact_tolerance;
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;

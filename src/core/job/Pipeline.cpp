@@ -7,6 +7,7 @@
 #include "Error.h"
 #include "domain/HierarchicalOracle.h"
 #include "improve/MeshImprovement.h"
+#include "job/ContactTolerance.h"
 #include "job/EngineRun.h"
 #include "job/FeatureAssembly.h"
 #include "job/InputChecks.h"
@@ -51,7 +52,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     report.warnings.push_back("the model is over 100 m across (" + std::to_string(diagonal) +
                               " model units): FreeCAD works in mm, check the units of the inputs");
   CriteriaTable criteria = resolveCriteria(job, diagonal);
-  attachSizeField(criteria, job, oracle, control);
+  report.contact_tolerance = contactTolerance(job, oracle, inputs);
+  report.gaps = attachSizeField(criteria, job, oracle, report.contact_tolerance.value, control);
   checkExpectedSize(job, oracle, criteria);
   report.inputs = describeInputs(oracle, inputs);
   report.bbox_diagonal = diagonal;
@@ -126,8 +128,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   control.report("check", 0);
   report.checks = job.checks;
   // Nodes the snap had to leave off the CAD are that far from their part where it touches another.
-  const double contactTolerance = std::max(1e-6 * diagonal, snap.statistics.max_distance_kept);
-  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material, contactTolerance);
+  const double touching = std::max(report.contact_tolerance.value, snap.statistics.max_distance_kept);
+  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material, touching);
   clock.finish("check");
   if (!report.self_check.problems.empty()) {
     if (job.checks == MeshCheckMode::Error) {

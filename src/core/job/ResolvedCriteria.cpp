@@ -1,5 +1,6 @@
 #include "job/ResolvedCriteria.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -114,26 +115,46 @@ const FinenessPreset* jobFineness(const JobSpec& job) {
   return job.fineness ? findFineness(*job.fineness) : nullptr;  // "off" is no preset
 }
 
-void attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
-                     const RunControl& control) {
+std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
+                                     double contactTolerance, const RunControl& control) {
   const FinenessPreset* fineness = jobFineness(job);
-  if (!fineness) return;
+  if (!fineness) return {};
   const double sharpAngle = job.features ? job.sharp_angle_deg : 0;
   const double cap = table.defaults.cell_size;
-  GeometrySizes sizes = geometrySizes(oracle, *fineness, sharpAngle, cap, static_cast<double>(job.max_vertices), control);
+  GeometrySizes sizes = geometrySizes(oracle, *fineness, sharpAngle, cap, contactTolerance,
+                                      static_cast<double>(job.max_vertices), control);
   if (!(sizes.surface_vertices <= static_cast<double>(job.max_vertices))) {
+    const std::string tooMany = " would give about " + roughCount(sizes.surface_vertices) +
+                                " vertices on the surfaces alone, more than limits.max_vertices = " +
+                                std::to_string(job.max_vertices);
+    const std::string preset = "criteria.fineness " + std::string(fineness->name);
     const Point3& at = sizes.smallest.point;
-    char where[160];
+    char where[200];
+    // The narrowest gap of the entry asking the most asks its smallest size.
+    const auto gap = std::find_if(sizes.gaps.begin(), sizes.gaps.end(), [&](const PartGap& g) {
+      return g.entry == sizes.largest_entry || g.other == sizes.largest_entry;
+    });
+    if (sizes.smallest.reason == SizeReason::Gap && gap != sizes.gaps.end()) {
+      std::snprintf(where, sizeof where, "%g wide at (%g, %g, %g) asks for size %g", gap->width, gap->at[0],
+                    gap->at[1], gap->at[2], gap->width / fineness->sizes_per_thickness);
+      char bond[160];
+      std::snprintf(bond, sizeof bond, "contact_tolerance above %g (now %g)", gap->width, contactTolerance);
+      throw InputError("the gap between inputs '" + oracle.entries()[gap->entry].source->name() + "' and '" +
+                       oracle.entries()[gap->other].source->name() + "' is " + where + " (" + preset +
+                       "), and the sizes the geometry asks for" + tooMany +
+                       ": if the two parts are meant to touch, set " + bond +
+                       " to bond them; else give the sizes yourself (criteria.fineness \"off\" and "
+                       "criteria.cell_size), or raise limits.max_vertices");
+    }
     std::snprintf(where, sizeof where, "%g at (%g, %g, %g), from %s", sizes.smallest.size, at[0], at[1], at[2],
                   sizeReasonName(sizes.smallest.reason));
-    throw InputError("the sizes the geometry asks for (criteria.fineness " + std::string(fineness->name) +
-                     ", smallest size on input '" + oracle.entries()[sizes.largest_entry].source->name() + "' " + where +
-                     ") would give about " + roughCount(sizes.surface_vertices) +
-                     " vertices on the surfaces alone, more than limits.max_vertices = " + std::to_string(job.max_vertices) +
+    throw InputError("the sizes the geometry asks for (" + preset + ", smallest size on input '" +
+                     oracle.entries()[sizes.largest_entry].source->name() + "' " + where + ")" + tooMany +
                      ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
   }
   table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap,
                                                   kSmallestSizeOfDiagonal * oracle.diagonal(), kSampleThinning);
+  return std::move(sizes.gaps);
 }
 
 // Refuse up front what would blow the vertex limit: a tet whose circumradius is near the

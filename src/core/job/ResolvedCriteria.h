@@ -7,6 +7,7 @@
 #include "domain/HierarchicalOracle.h"
 #include "job/JobSpec.h"
 #include "sizing/Fineness.h"
+#include "sizing/GeometrySizes.h"
 
 namespace oraclemesh {
 
@@ -21,11 +22,13 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 const FinenessPreset* jobFineness(const JobSpec& job);
 
 // Puts the sizing field of the job's fineness (sizing/GeometrySizes.h) into `table`, capped by
-// the default cell size; nothing when the job's fineness is off. Throws InputError when the
-// sizes the geometry asks for would give more surface vertices than limits.max_vertices
-// (naming the input, the smallest size, where and why).
-void attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
-                     const RunControl& control);
+// the default cell size; nothing when the job's fineness is off. Gaps between inputs wider
+// than `contactTolerance` get sizes; returns each pair's narrowest gap, narrowest first.
+// Throws InputError when the sizes the geometry asks for would give more surface vertices
+// than limits.max_vertices (naming the input, the smallest size, where and why; for a gap, the
+// two parts, its width and the contact tolerance that would bond them).
+std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
+                                     double contactTolerance, const RunControl& control);
 
 // Throws InputError when the material entries' volumes at their cell sizes would give more
 // vertices than limits.max_vertices.

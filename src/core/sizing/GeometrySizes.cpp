@@ -15,9 +15,12 @@
 #include <Standard_Failure.hxx>
 #include <TopLoc_Location.hxx>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "RunControl.h"
+#include "domain/BrepSolid.h"
 #include "domain/BrepTopology.h"
 #include "domain/OpenCascadeWork.h"
 #include "features/BrepSharpEdges.h"
@@ -115,7 +118,7 @@ void addShortEdgeSamples(const BrepTopology& solid, double sharpAngleDeg, std::v
 // distance to the solid's own opposite face: a wall of thickness t asks for t /
 // sizes_per_thickness). Other inputs do not count for the thickness: where parts touch, their
 // faces lie within the CAD tolerance of each other, which is no wall (gaps between parts are
-// the self-check's, job/JoinedParts).
+// GapRays' below).
 class FaceSampler {
  public:
   // Measures the sizes each triangle asks for at its corners and centre (what the estimate
@@ -156,13 +159,31 @@ class FaceSampler {
   }
 
   const BrepTopology& solid() const { return solid_; }
+  const std::vector<FaceTriangle>& triangles() const { return triangles_; }
+
+  // Lowers each triangle's size to what the gap outside its centre asks for (`gapSize`:
+  // triangle, point -> size, infinity for none), so the sampling and the estimate see it.
+  template <class GapSize>
+  void lowerToGaps(const GapSize& gapSize, const RunControl& control) {
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+      if (i % 1024 == 0) control.checkpoint();
+      const FaceTriangle& t = triangles_[i];
+      const double gap = gapSize(t, centroid(t));
+      if (!(gap < local_[i])) continue;
+      surfaceVertices_ += t.area / (1.3 * gap * gap) - t.area / (1.3 * local_[i] * local_[i]);
+      local_[i] = gap;
+      if (gap < smallest_.size) smallest_ = {centroid(t), gap, SizeReason::Gap};
+    }
+  }
   // The surface vertices the sizes asked for would make on this solid's faces (faces a higher
   // input hides count too: an estimate for orders of magnitude).
   double surfaceVertices() const { return surfaceVertices_; }
   const SizeSample& smallest() const { return smallest_; }
 
-  // Curvature and thickness samples spaced at the sizes each triangle asks for.
-  void addSamples(std::vector<SizeSample>& out, const RunControl& control) {
+  // Curvature, thickness and gap samples spaced at the sizes each triangle asks for; `gapSize`
+  // (triangle, point): the size a gap outside the solid asks for there, infinity for none.
+  template <class GapSize>
+  void addSamples(std::vector<SizeSample>& out, const GapSize& gapSize, const RunControl& control) {
     for (size_t i = 0; i < triangles_.size(); ++i) {
       if (i % 1024 == 0) control.checkpoint();
       const FaceTriangle& t = triangles_[i];
@@ -178,6 +199,8 @@ class FaceSampler {
           if (std::isfinite(curvature)) out.push_back({p, curvature, SizeReason::Curvature});
           const double thickness = thicknessSize(t, i, p);
           if (std::isfinite(thickness)) out.push_back({p, thickness, SizeReason::Thickness});
+          const double gap = gapSize(t, p);
+          if (std::isfinite(gap)) out.push_back({p, gap, SizeReason::Gap});
         }
     }
   }
@@ -235,12 +258,92 @@ class FaceSampler {
   SizeSample smallest_;
 };
 
+// Gaps between inputs: from a face sample outwards along the normal to the first face of
+// another input facing back. A gap of width w asks for w / sizes_per_thickness on both sides,
+// so the faces' triangles are small enough that no tetrahedron reaches across (its
+// circumcentre would lie in the gap, outside both parts). Inputs closer than the job's
+// contact tolerance touch: no gap, they are bonded. The width is measured between the faces'
+// triangles, and between the exact surfaces (projections on both inputs) where the
+// triangles' deviation from them could decide which side of the tolerance it falls.
+class GapRays {
+ public:
+  struct Gap {
+    double size = std::numeric_limits<double>::infinity();  // infinity: no gap
+    double width = 0;
+    size_t other = 0;  // the sampler across the gap
+  };
+
+  GapRays(const std::vector<FaceSampler>& samplers, const std::vector<const Source*>& sources, double diagonal,
+          double sizesPerThickness, double cap, double contactTolerance)
+      : samplers_(samplers),
+        sources_(sources),
+        offset_(1e-7 * diagonal),
+        contactTolerance_(contactTolerance),
+        sizesPerThickness_(sizesPerThickness),
+        cap_(cap) {
+    for (size_t s = 0; s < samplers.size(); ++s)
+      for (size_t i = 0; i < samplers[s].triangles().size(); ++i) {
+        const FaceTriangle& t = samplers[s].triangles()[i];
+        triangles_.emplace_back(K::Point_3(t.corners[0][0], t.corners[0][1], t.corners[0][2]),
+                                K::Point_3(t.corners[1][0], t.corners[1][1], t.corners[1][2]),
+                                K::Point_3(t.corners[2][0], t.corners[2][1], t.corners[2][2]));
+        owners_.push_back({s, i});
+      }
+    for (const Source* source : sources) {
+      const auto* brep = dynamic_cast<const BrepSolid*>(source);
+      deviations_.push_back(brep && brep->proxyInfo().usable ? brep->proxyInfo().deflection
+                                                             : std::numeric_limits<double>::infinity());
+    }
+    if (samplers.size() > 1 && !triangles_.empty())
+      tree_ = std::make_unique<TriangleTree>(triangles_.cbegin(), triangles_.cend());
+  }
+
+  // The gap outside sampler `owner`'s triangle `t` at p.
+  Gap at(size_t owner, const FaceTriangle& t, const Point3& p) const {
+    if (!tree_) return {};
+    const Point3 start = p + offset_ * t.normal;
+    const K::Ray_3 ray(K::Point_3(start[0], start[1], start[2]), K::Vector_3(t.normal[0], t.normal[1], t.normal[2]));
+    const auto hit = tree_->first_intersection(ray);
+    if (!hit) return {};
+    const K::Point_3* q = boost::get<K::Point_3>(&hit->first);
+    if (!q) return {};
+    const auto [other, j] = owners_[static_cast<size_t>(hit->second - triangles_.cbegin())];
+    const FaceTriangle& facing = samplers_[other].triangles()[j];
+    if (other == owner || dot(facing.normal, t.normal) > -0.2) return {};
+    const double along = std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_;
+    if (!(along / sizesPerThickness_ < cap_)) return {};  // the cap holds there
+    // The triangles lie within their solids' deviations of the exact faces, so the width
+    // between the faces is `along` give or take both: the exact projections (slow, and met
+    // over every face where parts touch) decide only when that band straddles the tolerance.
+    const double band = deviations_[owner] + deviations_[other];
+    if (along + band <= contactTolerance_) return {};
+    double width = along;
+    if (!(along - band > contactTolerance_)) {
+      const Point3 hitPoint{q->x(), q->y(), q->z()};
+      width = distance(sources_[owner]->project(p).point, sources_[other]->project(hitPoint).point);
+      if (!(width > contactTolerance_)) return {};
+    }
+    return {width / sizesPerThickness_, width, other};
+  }
+
+ private:
+  const std::vector<FaceSampler>& samplers_;
+  const std::vector<const Source*>& sources_;
+  Triangles triangles_;
+  std::vector<std::pair<size_t, size_t>> owners_;  // per triangle: sampler, triangle there
+  std::vector<double> deviations_;                 // per sampler: triangles to exact faces, at most
+  std::unique_ptr<TriangleTree> tree_;
+  double offset_, contactTolerance_, sizesPerThickness_, cap_;
+};
+
 }  // namespace
 
 GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset& fineness, double sharpAngleDeg,
-                            double cap, double vertexLimit, const RunControl& control) {
+                            double cap, double contactTolerance, double vertexLimit, const RunControl& control) {
   GeometrySizes sizes;
   std::vector<FaceSampler> samplers;
+  std::vector<const Source*> sources;  // per sampler
+  std::vector<int> entries;            // per sampler: its oracle entry
   const BrepTopology* current = nullptr;  // the solid being measured, for the message
   try {
     double largest = -1;
@@ -249,19 +352,42 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
       if (!current) continue;
       const OpenCascadeWork working(current->name());
       samplers.emplace_back(*current, fineness, oracle.diagonal(), cap, control);
-      sizes.surface_vertices += samplers.back().surfaceVertices();
-      if (samplers.back().surfaceVertices() > largest) {
-        largest = samplers.back().surfaceVertices();
-        sizes.largest_entry = static_cast<int>(e);
-        sizes.smallest = samplers.back().smallest();
+      sources.push_back(oracle.entries()[e].source.get());
+      entries.push_back(static_cast<int>(e));
+    }
+    const GapRays gaps(samplers, sources, oracle.diagonal(), fineness.sizes_per_thickness, cap, contactTolerance);
+    std::map<std::pair<int, int>, PartGap> narrowest;  // per pair of entries
+    for (size_t s = 0; s < samplers.size(); ++s) {
+      current = &samplers[s].solid();
+      const OpenCascadeWork working(current->name());
+      samplers[s].lowerToGaps(
+          [&](const FaceTriangle& t, const Point3& p) {
+            const GapRays::Gap gap = gaps.at(s, t, p);
+            if (!std::isfinite(gap.size)) return gap.size;
+            const auto pair = std::minmax(entries[s], entries[gap.other]);
+            auto [place, fresh] = narrowest.try_emplace(pair, PartGap{pair.first, pair.second, gap.width, p});
+            if (!fresh && gap.width < place->second.width) place->second = {pair.first, pair.second, gap.width, p};
+            return gap.size;
+          },
+          control);
+      sizes.surface_vertices += samplers[s].surfaceVertices();
+      if (samplers[s].surfaceVertices() > largest) {
+        largest = samplers[s].surfaceVertices();
+        sizes.largest_entry = entries[s];
+        sizes.smallest = samplers[s].smallest();
       }
     }
+    for (const auto& [pair, gap] : narrowest) sizes.gaps.push_back(gap);
+    std::stable_sort(sizes.gaps.begin(), sizes.gaps.end(),
+                     [](const PartGap& a, const PartGap& b) { return a.width < b.width; });
     // Sampling as densely as such sizes ask would itself take that many points.
     if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
-    for (FaceSampler& sampler : samplers) {
+    for (size_t s = 0; s < samplers.size(); ++s) {
+      FaceSampler& sampler = samplers[s];
       current = &sampler.solid();
       const OpenCascadeWork working(current->name());
-      sampler.addSamples(sizes.samples, control);
+      sampler.addSamples(
+          sizes.samples, [&](const FaceTriangle& t, const Point3& p) { return gaps.at(s, t, p).size; }, control);
       if (sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
     }
   } catch (const Standard_Failure& failure) {

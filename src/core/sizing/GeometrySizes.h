@@ -12,6 +12,13 @@ namespace oraclemesh {
 
 class RunControl;
 
+// The narrowest gap the sizing found between two B-rep entries (oracle entry indices).
+struct PartGap {
+  int entry = -1, other = -1;  // entry < other
+  double width = 0;            // between the exact faces
+  Point3 at{};                 // on entry's face
+};
+
 struct GeometrySizes {
   std::vector<SizeSample> samples;
   // The vertices the sizes asked for would make on the B-rep faces (faces a higher input hides
@@ -20,13 +27,17 @@ struct GeometrySizes {
   double surface_vertices = 0;
   int largest_entry = -1;
   SizeSample smallest;
+  // Per pair of entries with a gap wider than the contact tolerance: its narrowest place,
+  // narrowest first.
+  std::vector<PartGap> gaps;
 };
 
 // The sizes every B-rep entry's faces and edges ask for, from their tessellation: curvature,
-// wall thickness and (sharpAngleDeg > 0) short sharp edges, at most `cap`. Triangle surfaces
-// and images add none yet. When the surface estimate passes `vertexLimit`, no samples are
-// made (the caller refuses the job).
+// wall thickness, gaps to other entries wider than `contactTolerance` (narrower ones touch)
+// and (sharpAngleDeg > 0) short sharp edges, at most `cap`. Triangle surfaces and images add
+// none yet. When the surface estimate passes `vertexLimit`, no samples are made (the caller
+// refuses the job).
 GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset& fineness, double sharpAngleDeg,
-                            double cap, double vertexLimit, const RunControl& control);
+                            double cap, double contactTolerance, double vertexLimit, const RunControl& control);
 
 }  // namespace oraclemesh

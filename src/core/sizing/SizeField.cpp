@@ -15,6 +15,7 @@ const char* sizeReasonName(SizeReason reason) {
     case SizeReason::Curvature: return "curvature";
     case SizeReason::ShortEdge: return "short_edge";
     case SizeReason::Thickness: return "thickness";
+    case SizeReason::Gap: return "gap";
   }
   return "?";
 }

@@ -14,8 +14,8 @@
 namespace oraclemesh {
 
 // Why a sample asks for its size: the report counts samples per reason.
-enum class SizeReason { Curvature, ShortEdge, Thickness };
-constexpr int kSizeReasonCount = 3;
+enum class SizeReason { Curvature, ShortEdge, Thickness, Gap };
+constexpr int kSizeReasonCount = 4;
 const char* sizeReasonName(SizeReason reason);
 
 struct SizeSample {

@@ -7,7 +7,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
-NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges")
+NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges", "ContactTolerance")
 
 
 def check(params):
@@ -59,6 +59,10 @@ def check(params):
     out["report_features"] = report["features"]
     out["report_engine"] = report["engine"]
     out["new_mesh_engine"] = mesh.Engine
+    out["report_contact_tolerance"] = report["contact_tolerance"]
+    given = makeMesh(doc, [block], cell_size=4.0, element_order=1, contact_tolerance=0.02, name="GivenTolerance")
+    doc.recompute()
+    out["given_contact_tolerance"] = json.loads(given.Report)["contact_tolerance"]
     ids, angles, groups = quality.element_quality(mesh)
     out["quality_min"] = float(angles.min())
     out["quality_count"] = len(angles)

@@ -17,6 +17,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -159,6 +160,7 @@ std::string seconds(double s) {
 struct HelperOutput {
   TopoDS_Shape solids;
   std::vector<std::string> warnings;
+  double declared_uncertainty = 0;
 };
 
 // The helper's solids travel as binary BREP: the text format rounds vertices and edge
@@ -218,6 +220,7 @@ HelperOutput readInHelper(const std::string& kind, const std::string& input, con
     std::istringstream lines(readWholeFile(folder.path() / "warnings.txt"));
     for (std::string line; std::getline(lines, line);)
       if (!line.empty()) output.warnings.push_back(line);
+    output.declared_uncertainty = std::strtod(readWholeFile(folder.path() / "uncertainty.txt").c_str(), nullptr);
     return output;
   }
   const std::string message = readWholeFile(folder.path() / "error.txt");
@@ -270,6 +273,7 @@ BrepSolid::Loaded loadHelperOutput(HelperOutput output, const std::string& name,
   BrepSolid::Loaded loaded = BrepSolid::load(output.solids, name, grouping, path, BrepSolid::Tessellation::Reuse);
   output.warnings.insert(output.warnings.end(), loaded.warnings.begin(), loaded.warnings.end());
   loaded.warnings = std::move(output.warnings);
+  loaded.declared_uncertainty = output.declared_uncertainty;
   return loaded;
 }
 
@@ -326,6 +330,9 @@ int shapeReaderMain(int argc, char** argv) {
       std::string warnings;
       for (const std::string& w : loaded.warnings) warnings += w + "\n";
       writeWholeFile(out / "warnings.txt", warnings);
+      char uncertainty[32];  // 17 digits: the double itself comes back
+      std::snprintf(uncertainty, sizeof uncertainty, "%.17g", loaded.declared_uncertainty);
+      writeWholeFile(out / "uncertainty.txt", uncertainty);
       return 0;
     } catch (const InputError& e) {
       writeWholeFile(out / "error.txt", e.what());

@@ -85,7 +85,11 @@ BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& 
 }
 
 BrepSolid::Loaded BrepSolid::loadFile(const std::string& path, const std::string& name, Grouping grouping) {
-  return load(readShapeFile(path, describe(name, path)), name, grouping, path);
+  double uncertainty = 0;
+  const TopoDS_Shape shape = readShapeFile(path, describe(name, path), &uncertainty);
+  Loaded loaded = load(shape, name, grouping, path);
+  loaded.declared_uncertainty = uncertainty;
+  return loaded;
 }
 
 BrepSolid::Loaded BrepSolid::loadBrepText(const std::string& text, const std::string& name, Grouping grouping) {

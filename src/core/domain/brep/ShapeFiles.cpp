@@ -5,7 +5,10 @@
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <STEPConstruct_UnitContext.hxx>
 #include <STEPControl_Reader.hxx>
+#include <StepBasic_NamedUnit.hxx>
+#include <StepBasic_UncertaintyMeasureWithUnit.hxx>
 #include <StepData_StepModel.hxx>
 #include <StepGeom_CartesianPoint.hxx>
 #include <StepGeom_Direction.hxx>
@@ -60,6 +63,27 @@ void requireFiniteStepPoints(const STEPControl_Reader& reader, const std::string
       throw InputError(what + " has a coordinate that is not a finite number (NaN or infinity) in entity #" +
                        std::to_string(model->IdentLabel(entity)) + ": the file is damaged; export it again from the CAD tool");
   }
+}
+
+// The largest length uncertainty the file declares (UNCERTAINTY_MEASURE_WITH_UNIT, one per
+// representation context, so one per part in an assembly), converted from its unit to the
+// unit of the transferred shape; 0 when there is none. OpenCASCADE turns it into no shape
+// tolerance (the shapes come back with their own, often 1e-7), so the mesher reads it here.
+double largestStepUncertainty(const STEPControl_Reader& reader) {
+  const Handle(StepData_StepModel) model = reader.StepModel();
+  if (model.IsNull()) return 0;
+  double largest = 0;
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    const auto measure = Handle(StepBasic_UncertaintyMeasureWithUnit)::DownCast(model->Value(i));
+    if (measure.IsNull()) continue;
+    const Handle(StepBasic_NamedUnit) unit = measure->UnitComponent().NamedUnit();
+    if (unit.IsNull()) continue;
+    STEPConstruct_UnitContext units;
+    if (units.ComputeFactors(unit) != 0 || !units.LengthDone()) continue;  // not a length
+    const double value = measure->ValueComponent() * units.LengthFactor();
+    if (std::isfinite(value) && value > largest) largest = value;
+  }
+  return largest;
 }
 
 // The parameter delimiter and record delimiter an IGES file declares at the start of its
@@ -178,7 +202,8 @@ void requireIgesDirectoryBeforeParameters(const std::string& path, const std::st
 
 }  // namespace
 
-TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
+TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, double* declaredUncertainty) {
+  if (declaredUncertainty) *declaredUncertainty = 0;
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
@@ -195,6 +220,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what) {
       if (reader.TransferRoots() == 0)
         throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
       shape = reader.OneShape();
+      if (declaredUncertainty) *declaredUncertainty = largestStepUncertainty(reader);
     } else if (ext == "iges" || ext == "igs") {
       requireFiniteIgesNumbers(path, what);
       requireIgesDirectoryBeforeParameters(path, what);

@@ -8,7 +8,10 @@
 namespace oraclemesh {
 
 // Reads a STEP, IGES or BREP file (by its extension) into one shape; InputError starting
-// with `what` for a missing, unreadable or unsupported file.
-TopoDS_Shape readShapeFile(const std::string& path, const std::string& what);
+// with `what` for a missing, unreadable or unsupported file. `declaredUncertainty`, when
+// given, receives the largest UNCERTAINTY_MEASURE_WITH_UNIT of a STEP file in the shape's
+// length unit (the distance below which the CAD tool took two points as one), 0 for other
+// files and STEP files that declare none.
+TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, double* declaredUncertainty = nullptr);
 
 }  // namespace oraclemesh
