@@ -55,7 +55,7 @@ class MaterialDistances {
 }  // namespace
 
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                                       double tolerance) {
+                                                       double tolerance, const std::vector<double>& distanceKeptOffCad) {
   // A gap wider than the model is no gap of two parts; the reach only bounds the projections.
   MaterialDistances distanceTo(oracle, oracle.diagonal());
   std::map<std::pair<int, int>, JoinedAcrossGap> pairs;
@@ -73,7 +73,8 @@ std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, cons
     double faceGap = std::numeric_limits<double>::infinity();
     Point3 at{};
     for (int64_t v : t.v) {
-      const double d = std::max(distanceTo(mesh.points[v], v, a), distanceTo(mesh.points[v], v, b));
+      const double kept = static_cast<size_t>(v) < distanceKeptOffCad.size() ? distanceKeptOffCad[v] : 0.0;
+      const double d = std::max(distanceTo(mesh.points[v], v, a), distanceTo(mesh.points[v], v, b)) - kept;
       if (d < faceGap) {
         faceGap = d;
         at = mesh.points[v];

@@ -26,8 +26,11 @@ struct JoinedAcrossGap {
 
 // One entry per pair of materials sharing mesh faces none of whose vertices is within
 // `tolerance` of the closures of both materials' inputs (inside an input, or on its boundary
-// to `tolerance`); sorted by material pair.
+// to `tolerance`); sorted by material pair. `distanceKeptOffCad` (empty, or one per vertex):
+// how far the snap left each vertex off the CAD, allowed on top of `tolerance` at that vertex
+// alone (one node left off elsewhere must not hide a gap bridged here).
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                                       double tolerance);
+                                                       double tolerance,
+                                                       const std::vector<double>& distanceKeptOffCad = {});
 
 }  // namespace oraclemesh

@@ -151,7 +151,8 @@ std::string percent(double fraction) {
 }  // namespace
 
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                     const std::map<int, double>& volume_per_material, double contact_tolerance) {
+                                     const std::map<int, double>& volume_per_material, double contact_tolerance,
+                                     const std::vector<double>& distance_kept_off_cad) {
   MeshSelfCheck check;
   check.contact_tolerance = contact_tolerance > 0 ? contact_tolerance : 1e-6 * oracle.diagonal();
   struct Entries {
@@ -206,7 +207,7 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
                                std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
                                "than its elements; " + finer);
   }
-  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance);
+  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad);
   for (const JoinedAcrossGap& j : check.joined) {
     if (j.joined_area <= check.volume_tolerance * j.interface_area) continue;
     std::ostringstream message;

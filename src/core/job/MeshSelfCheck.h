@@ -50,6 +50,7 @@ struct MeshSelfCheck {
 // the diagonal) are a problem when more than volume_tolerance of their interface is joined.
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                      const std::map<int, double>& volume_per_material,
-                                     double contact_tolerance = 0);
+                                     double contact_tolerance = 0,
+                                     const std::vector<double>& distance_kept_off_cad = {});
 
 }  // namespace oraclemesh

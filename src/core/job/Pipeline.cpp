@@ -127,9 +127,10 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   control.report("check", 0);
   report.checks = job.checks;
-  // Nodes the snap had to leave off the CAD are that far from their part where it touches another.
-  const double touching = std::max(report.contact_tolerance.value, snap.statistics.max_distance_kept);
-  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material, touching);
+  // Nodes the snap had to leave off the CAD are that far from their part where it touches
+  // another: allowed at those nodes only.
+  report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material,
+                                             report.contact_tolerance.value, snap.distance_kept);
   clock.finish("check");
   if (!report.self_check.problems.empty()) {
     if (job.checks == MeshCheckMode::Error) {

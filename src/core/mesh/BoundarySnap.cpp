@@ -164,8 +164,10 @@ BoundarySnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle&
     }
     pending.swap(blocked);
   }
+  result.distance_kept.assign(mesh.points.size(), 0.0);
   for (int64_t v : pending) {
     ++r.kept_off_surface;
+    result.distance_kept[v] = move[v];
     if (move[v] > r.max_distance_kept) {
       r.max_distance_kept = move[v];
       r.worst_kept = mesh.points[v];

@@ -32,6 +32,9 @@ struct BoundarySnapStatistics {
 
 struct BoundarySnapResult {
   std::vector<int> vertex_entry;  // entry whose boundary the vertex was put on, -1 interior
+  // Per vertex: how far from its place on the CAD the snap left it (0 for all it moved or
+  // found there), so later checks allow that much at that vertex only.
+  std::vector<double> distance_kept;
   BoundarySnapStatistics statistics;
 };
 
