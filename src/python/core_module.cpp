@@ -10,6 +10,7 @@
 
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
+#include "domain/brep/ShapeFiles.h"
 #include "job/JobJson.h"
 #include "job/OpenCascadeStall.h"
 #include "job/Pipeline.h"
@@ -143,6 +144,11 @@ PYBIND11_MODULE(_core, m) {
   m.def("run", &run, py::arg("job_json"), py::arg("base_directory") = "", py::arg("progress") = py::none(),
         "Run a job given as JSON text; returns a dict of numpy arrays and the report as JSON text.");
   m.def("version", &version);
+  m.def(
+      "step_uncertainty",
+      [](const std::string& path) { return declaredStepUncertainty(path, "STEP file '" + path + "'"); },
+      py::arg("path"),
+      "The largest length uncertainty (UNCERTAINTY_MEASURE_WITH_UNIT) a STEP file declares, in mm; 0 when none.");
   m.def("require_job_file_size", &jobjson::requireJobFileSize, py::arg("path"),
         "InputError when the job file at path is over the size limit (max_job_bytes), before it is read.");
   m.attr("max_job_bytes") = jobjson::kMaxBytes;

@@ -85,6 +85,12 @@ TEST(JobValidation, ContactToleranceIsADistanceAtOrAboveZero) {
   job["contact_tolerance"] = 0.05;
   EXPECT_EQ(JobSpec::fromJson(job, ".").contact_tolerance, 0.05);
   EXPECT_FALSE(JobSpec::fromJson(ballJob(), ".").contact_tolerance.has_value());
+  job.erase("contact_tolerance");
+  job["cad_uncertainty"] = -1;
+  EXPECT_EQ(parseError(job), "cad_uncertainty = -1 is negative: give the CAD file's declared uncertainty in model "
+                             "units (mm), at or above 0");
+  job["cad_uncertainty"] = 0.07;
+  EXPECT_EQ(JobSpec::fromJson(job, ".").cad_uncertainty, 0.07);
 }
 
 TEST(JobValidation, NumbersBeyondDoubleRangeAreNamed) {

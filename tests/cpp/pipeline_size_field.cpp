@@ -197,6 +197,19 @@ TEST(SizeFieldGaps, TheReportListsTheGapAndAWiderContactToleranceBondsIt) {
   EXPECT_TRUE(bonded.report.at("criteria").at("size_field").at("gaps").empty());
   EXPECT_GE(bonded.report.at("self_check").at("contact_tolerance").get<double>(), 0.6);
   EXPECT_TRUE(bonded.report.at("self_check").at("joined").empty());
+
+  // The uncertainty a STEP file declared, sent by the workbench for shapes that no longer
+  // carry it, raises the automatic tolerance the same way; an explicit one still wins.
+  job.erase("contact_tolerance");
+  job["cad_uncertainty"] = 0.6;
+  const JobResult declared = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(declared.report.at("contact_tolerance"), json({{"value", 0.6}, {"from", "cad_uncertainty (job)"}}));
+  EXPECT_EQ(declared.report.at("criteria").at("size_field").at("samples").at("gap"), 0);
+  EXPECT_TRUE(declared.report.at("self_check").at("joined").empty());
+  job["contact_tolerance"] = 0.01;
+  const JobResult explicitWins = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(explicitWins.report.at("contact_tolerance"), json({{"value", 0.01}, {"from", "job"}}));
+  EXPECT_EQ(explicitWins.report.at("criteria").at("size_field").at("gaps").size(), 1u);
 }
 
 // A gap of 1e-3 mm at "moderate" asks for 3e-4 mm over 100 mm^2 on both sides, some 1e9

@@ -10,10 +10,13 @@
 #include <STEPControl_Writer.hxx>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
+#include "Error.h"
 #include "RunControl.h"
 #include "domain/BrepSolid.h"
+#include "domain/brep/ShapeFiles.h"
 #include "occt_checks.h"
 
 namespace oraclemesh {
@@ -61,6 +64,25 @@ TEST(StepUncertainty, SharedModelsDeclareTheirs) {
   const BrepSolid::Loaded presse = BrepSolid::loadFile(test::cadDir() + "/presse_asm.step", "presse",
                                                        BrepSolid::Grouping::Separate);
   EXPECT_DOUBLE_EQ(presse.declared_uncertainty, 7.418088244970E-2);
+  // Without transferring the shapes (what the workbench asks of the file FreeCAD imported).
+  EXPECT_EQ(declaredStepUncertainty(test::cadDir() + "/presse_asm.step", "presse"), presse.declared_uncertainty);
+  EXPECT_EQ(declaredStepUncertainty(test::cadDir() + "/Kurbelwelle.stp", "crank"), crank.declared_uncertainty);
+  // part.step declares 1e-6 of its length unit, a CONVERSION_BASED_UNIT 'METRE': 0.001 mm.
+  EXPECT_DOUBLE_EQ(declaredStepUncertainty(test::cadDir() + "/part.step", "part"), 1e-3);
+}
+
+TEST(StepUncertainty, AFileThatIsNoStepIsAnInputErrorNamingIt) {
+  const auto path = std::filesystem::temp_directory_path() / "oraclemesh_not_a_step.step";
+  {
+    std::ofstream out(path);
+    out << "this is no STEP file\n";
+  }
+  try {
+    declaredStepUncertainty(path.string(), "input 'x'");
+    FAIL() << "a text file was read as STEP";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("input 'x'", 0), 0u) << e.what();
+  }
 }
 
 TEST(StepUncertainty, OtherFilesDeclareNone) {

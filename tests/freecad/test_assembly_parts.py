@@ -13,6 +13,13 @@ def test_compound_parts(run_freecad):
     assert r["presse"] == ["presse_asm", 16]
     assert r["presse_labels"] == PRESSE_PARTS
     assert r["unnamed_labels"] == ["presse_asm Solid1", "presse_asm Solid2"]
+    # The STEP file's declared uncertainty (its largest UNCERTAINTY_MEASURE_WITH_UNIT,
+    # 7.418088244970E-2 mm) reaches the job, which FreeCAD's import alone would lose; where the
+    # file is not found, none is sent and the core falls back to the shapes' own tolerances.
+    assert abs(r["presse_cad_uncertainty"] - 7.418088244970e-2) < 1e-9
+    assert abs(r["presse_job_cad_uncertainty"] - 7.418088244970e-2) < 1e-9
+    assert r["unnamed_cad_uncertainty"] == 0
+    assert "cad_uncertainty" not in r["unnamed_job_keys"]
 
     # A Part::Compound's solids are named by its links; the FEM material of Over shows.
     assert r["rows"] == [["Pair.Solid1", "Left", ""], ["Pair.Solid2", "Right", ""],

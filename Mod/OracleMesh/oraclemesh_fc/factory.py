@@ -10,7 +10,7 @@ import FreeCAD
 from .job import check_interface_parts, extra_edge_links
 from . import interfaces, step_labels
 from .mesh_object import OracleMeshProxy
-from .parts import input_parts, store_labels
+from .parts import input_parts, store_cad_uncertainty, store_labels
 
 
 # makeMesh keyword -> property. Sizes accept numbers in model units (mm).
@@ -84,6 +84,7 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     step_labels.extra_files[:] = [job_options["step_file"]] if job_options.get("step_file") else []
     try:
         store_labels(obj, [p for p, _ in input_parts(obj)])
+        store_cad_uncertainty(obj)
     finally:
         step_labels.extra_files[:] = []
     for key, prop in OPTION_PROPERTIES.items():

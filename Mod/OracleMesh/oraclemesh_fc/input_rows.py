@@ -9,7 +9,7 @@ free name (group '<name>_Volumes'). A compound can be "treated as one input": it
 are joined into one row (and split again).
 """
 from . import job as jobmod
-from .parts import input_parts, part_key, solid_count, solid_labels, unique_labels
+from .parts import input_parts, part_key, solid_count, solid_labels, store_cad_uncertainty, unique_labels
 
 
 class Row:
@@ -120,6 +120,7 @@ def write_rows(mesh_obj, rows, fem_materials):
     labels = {k: v for k, v in dict(o.PartLabels).items() if k.split(".")[0] not in split}
     labels.update({r.key: r.label for r in rows if r.solid is not None})
     o.PartLabels = labels
+    store_cad_uncertainty(o)
 
     by_label = {m.Label: m for m in fem_materials}
     for m in fem_materials:

@@ -388,6 +388,9 @@ def build_job(mesh_obj):
     contact_tolerance = _value(getattr(mesh_obj, "ContactTolerance", 0.0))
     if contact_tolerance > 0:  # 0: the core's default from the shapes
         job["contact_tolerance"] = contact_tolerance
+    cad_uncertainty = _value(getattr(mesh_obj, "CadUncertainty", 0.0))
+    if cad_uncertainty > 0:
+        job["cad_uncertainty"] = cad_uncertainty
     if mesh_obj.OutputFiles or mesh_obj.OutputReport:
         job["output"] = {}
         if mesh_obj.OutputFiles:

@@ -73,7 +73,11 @@ PROPERTIES = (
     ("App::PropertyLength", "ContactTolerance", "Mesh",
      "Parts closer than this touch and are bonded; parts farther apart stay apart (with a "
      "Fineness, the sizes resolve the gap). 0 = automatic: the CAD's own tolerance (the "
-     "shapes' tolerances), at least 1e-6 of the model diagonal", 0.0),
+     "shapes' tolerances and the uncertainty the STEP file they came from declares, "
+     "CadUncertainty), at least 1e-6 of the model diagonal", 0.0),
+    ("App::PropertyLength", "CadUncertainty", "Mesh",
+     "The uncertainty the STEP file the inputs were imported from declares (found when the "
+     "inputs are set); the automatic ContactTolerance is at least this", 0.0),
     ("App::PropertyIntegerConstraint", "ElementOrder", "Mesh",
      "1 = linear tetrahedra (C3D4), 2 = quadratic tetrahedra (C3D10, mid nodes on the CAD faces)",
      (2, 1, 2, 1)),
@@ -129,7 +133,7 @@ PROPERTIES = (
     ("App::PropertyString", "Status", "Output", "Result of the last recompute", ""),
     ("App::PropertyString", "Report", "Output", "JSON report of the last successful mesh", ""),
 )
-READ_ONLY = ("Status", "Report", "InputKinds")
+READ_ONLY = ("Status", "Report", "InputKinds", "CadUncertainty")
 HIDDEN = ("FeatureEdges", "FeatureEdgeMidNodes")
 
 

@@ -122,3 +122,16 @@ def store_labels(mesh_obj, parts):
             labels.setdefault(part.key, part.label)
     if labels != dict(mesh_obj.PartLabels):
         mesh_obj.PartLabels = labels
+
+
+def store_cad_uncertainty(mesh_obj):
+    """Keep in CadUncertainty what the STEP files of the material inputs declare, found while
+    the files are at hand (setting the inputs), so a recompute needs no search."""
+    from .step_labels import declared_uncertainty
+    objs = [obj for obj, role in priority_entries(mesh_obj.Inputs, mesh_obj.Cuts) if role == "material"]
+    stored = getattr(mesh_obj, "CadUncertainty", None)
+    if stored is None:  # a document older than the property, not yet restored by the proxy
+        return
+    value = declared_uncertainty(objs)
+    if float(getattr(stored, "Value", stored)) != value:
+        mesh_obj.CadUncertainty = value

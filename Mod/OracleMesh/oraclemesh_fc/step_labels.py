@@ -115,9 +115,10 @@ def match_names(solids, named):
     return names
 
 
-def step_solid_names(obj, solids):
-    """Names from the STEP file obj was imported from, one per solid (None where unknown);
-    all None when no such file is found or it does not hold these solids."""
+def source_file(obj, solids):
+    """(path, names): the STEP file obj was imported from and the name it gives each solid
+    (None where unknown); (None, all None) when no such file is found or none holds these
+    solids."""
     for path in candidate_files(obj):
         try:
             names = match_names(solids, read_named_solids(path))
@@ -125,8 +126,33 @@ def step_solid_names(obj, solids):
             FreeCAD.Console.PrintLog("OracleMesh: names from %s skipped: %s\n" % (path, e))
             continue
         if any(names):
-            return names
-    return [None] * len(solids)
+            return path, names
+    return None, [None] * len(solids)
+
+
+def step_solid_names(obj, solids):
+    """Names from the STEP file obj was imported from, one per solid (None where unknown)."""
+    return source_file(obj, solids)[1]
+
+
+def declared_uncertainty(objs):
+    """The largest uncertainty the STEP files objs were imported from declare (in mm), 0 when
+    none is found: FreeCAD's import drops it, and the mesher's contact tolerance is at least
+    it (two parts closer than it touch in the CAD tool's eyes)."""
+    from .runner import import_core
+    largest = 0.0
+    for obj in objs:
+        shape = getattr(obj, "Shape", None)
+        if shape is None or not shape.Solids:
+            continue
+        path, _ = source_file(obj, shape.Solids)
+        if path is None:
+            continue
+        try:
+            largest = max(largest, import_core().step_uncertainty(path))
+        except Exception as e:  # the names came from it, so it reads: log, do not fail the mesh
+            FreeCAD.Console.PrintLog("OracleMesh: uncertainty of %s skipped: %s\n" % (path, e))
+    return largest
 
 
 def import_assembly(doc, path):

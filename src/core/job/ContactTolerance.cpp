@@ -17,6 +17,7 @@ ContactTolerance contactTolerance(const JobSpec& job, const HierarchicalOracle& 
     const double own = ShapeAnalysis_ShapeTolerance().Tolerance(solid->shape(), 1);
     if (own > tolerance.value) tolerance = {own, "shape tolerance of input '" + solid->name() + "'"};
   }
+  if (job.cad_uncertainty > tolerance.value) tolerance = {job.cad_uncertainty, "cad_uncertainty (job)"};
   if (inputs.declared_uncertainty > tolerance.value)
     tolerance = {inputs.declared_uncertainty, "STEP uncertainty of input '" + inputs.declared_uncertainty_by + "'"};
   return tolerance;

@@ -19,8 +19,9 @@ struct ContactTolerance {
 };
 
 // The job's contact_tolerance when given; else the largest of 1e-6 of the diagonal, the
-// largest OpenCASCADE tolerance of any B-rep input's faces, edges and vertices, and the
-// largest uncertainty a STEP input declares (the CAD tool's own idea of touching).
+// largest OpenCASCADE tolerance of any B-rep input's faces, edges and vertices, the job's
+// cad_uncertainty and the largest uncertainty a STEP input declares (the CAD tool's own idea
+// of touching).
 ContactTolerance contactTolerance(const JobSpec& job, const HierarchicalOracle& oracle, const LoadedInputs& inputs);
 
 }  // namespace oraclemesh

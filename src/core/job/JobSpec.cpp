@@ -374,7 +374,7 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
   if (!job.is_object()) throw InputError("the job must be a JSON object with at least an 'inputs' list");
   rejectUnknownKeys(job, {"inputs", "criteria", "features", "engine", "material_assignment", "initial_points", "optimize",
                           "element_order", "limits", "seed", "checks", "interfaces", "output",
-                          "contact_tolerance"},
+                          "contact_tolerance", "cad_uncertainty"},
                     "the job");
   JobSpec spec;
   if (!job.contains("inputs") || !job["inputs"].is_array() || job["inputs"].empty())
@@ -522,6 +522,13 @@ JobSpec JobSpec::fromJson(const json& job, const std::string& base) {
                        " is negative: give a distance in model units (mm) at or above 0 (parts closer than it are "
                        "bonded), or leave it out for the CAD's own tolerance");
     spec.contact_tolerance = tolerance;
+  }
+  if (job.contains("cad_uncertainty")) {
+    spec.cad_uncertainty = jobjson::number(job["cad_uncertainty"], "cad_uncertainty",
+                                           "give the CAD file's declared uncertainty in model units (mm), at or above 0");
+    if (spec.cad_uncertainty < 0)
+      throw InputError("cad_uncertainty = " + shortDump(job["cad_uncertainty"]) +
+                       " is negative: give the CAD file's declared uncertainty in model units (mm), at or above 0");
   }
   if (job.contains("checks")) {
     const json& c = job["checks"];

@@ -118,6 +118,10 @@ struct JobSpec {
   // diagonal, the inputs' shape tolerances, a STEP file's declared uncertainty)
   // (job/ContactTolerance.h).
   std::optional<double> contact_tolerance;
+  // "cad_uncertainty": what the file the inputs were imported from declares as its
+  // uncertainty (a STEP file's UNCERTAINTY_MEASURE_WITH_UNIT), for B-rep text inputs that no
+  // longer carry it (the workbench sends it); the default contact tolerance is at least this.
+  double cad_uncertainty = 0;
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;

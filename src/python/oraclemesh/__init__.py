@@ -22,7 +22,8 @@ from . import _core
 from ._core import Cancelled, Error, InputError, LimitError
 from .images import with_image_files
 
-__all__ = ["run", "run_isolated", "batch", "Result", "Error", "InputError", "LimitError", "Cancelled", "__version__"]
+__all__ = ["run", "run_isolated", "batch", "step_uncertainty", "Result", "Error", "InputError", "LimitError", "Cancelled",
+           "__version__"]
 __version__ = _core.version()
 
 
@@ -181,6 +182,14 @@ def _grace(limit):
     """As the CLI's hard deadline (src/cli/HardDeadline.h): a tenth of the limit, 2 to 30 s,
     for the core's own checkpoint to stop the job first."""
     return min(30.0, max(2.0, 0.1 * limit))
+
+
+def step_uncertainty(path):
+    """The largest length uncertainty (UNCERTAINTY_MEASURE_WITH_UNIT) the STEP file at path
+    declares, in mm, 0 when it declares none: the distance below which its CAD tool took two
+    points as one. The shapes OpenCASCADE reads from the file do not carry it. InputError when
+    the file is no readable STEP file."""
+    return _core.step_uncertainty(os.fspath(path))
 
 
 def run(job, progress=None, base_directory=None, isolated=None):

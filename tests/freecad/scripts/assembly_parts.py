@@ -25,12 +25,16 @@ def check(params):
     out["presse"] = [presse.Label, len(presse.Shape.Solids)]
     named = makeMesh(doc, [presse], step_file=step)
     out["presse_labels"] = [p.label for p, _ in input_parts(named)]
+    out["presse_cad_uncertainty"] = named.CadUncertainty.Value
+    out["presse_job_cad_uncertainty"] = build_job(named)[0].get("cad_uncertainty")
     # Nowhere FreeCAD's import leaves traces (recent files, file dialog folder) is the file.
     FreeCAD.ParamGet("User parameter:BaseApp/Preferences/General").SetString(
         "FileOpenSavePath", params["workdir"])
     FreeCAD.ParamGet("User parameter:BaseApp/Preferences").RemGroup("RecentFiles")
     unnamed = makeMesh(doc, [presse], name="Unnamed")
     out["unnamed_labels"] = [p.label for p, _ in input_parts(unnamed)][:2]
+    out["unnamed_cad_uncertainty"] = unnamed.CadUncertainty.Value
+    out["unnamed_job_keys"] = sorted(build_job(unnamed)[0])
 
     doc = FreeCAD.newDocument("Boxes")
     pair = doc.addObject("Part::Compound", "Pair")

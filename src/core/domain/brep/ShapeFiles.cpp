@@ -202,6 +202,20 @@ void requireIgesDirectoryBeforeParameters(const std::string& path, const std::st
 
 }  // namespace
 
+double declaredStepUncertainty(const std::string& path, const std::string& what) {
+  const std::string ext = lowerExtension(path);
+  if (ext != "step" && ext != "stp") throw InputError(what + " is no STEP file (.step, .stp)");
+  try {
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+    return largestStepUncertainty(reader);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
+                     "): export it again from the CAD tool");
+  }
+}
+
 TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, double* declaredUncertainty) {
   if (declaredUncertainty) *declaredUncertainty = 0;
   {

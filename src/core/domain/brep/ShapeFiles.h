@@ -14,4 +14,9 @@ namespace oraclemesh {
 // files and STEP files that declare none.
 TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, double* declaredUncertainty = nullptr);
 
+// The same declared uncertainty of a STEP file without transferring its shapes (the workbench
+// asks it of the file FreeCAD imported an assembly from); InputError starting with `what` when
+// the file is no readable STEP file.
+double declaredStepUncertainty(const std::string& path, const std::string& what);
+
 }  // namespace oraclemesh
