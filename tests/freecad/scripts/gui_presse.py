@@ -53,7 +53,8 @@ def interface_areas(mesh_obj, report, job):
     """{interface name: (mesh area, OpenCASCADE area)}: the second is the area of the
     higher-priority part's faces that lie inside or on the other part (the core gives an
     overlap to the part listed first, so its boundary there is the interface), from the very
-    B-rep the job hands the core."""
+    B-rep the job hands the core. "On" is to the job's contact tolerance (a fuzzy common):
+    faces closer than it are touching, and bonded in the mesh."""
     import Part
     fm = mesh_obj.FemMesh
     face_groups = {fm.getGroupName(g): g for g in fm.Groups if fm.getGroupElementType(g) == "Face"}
@@ -62,12 +63,13 @@ def interface_areas(mesh_obj, report, job):
         shape = Part.Shape()
         shape.importBrepFromString(entry["brep"])
         shapes[entry["name"]] = shape
+    tolerance = report["contact_tolerance"]["value"]
     areas = {}
     for interface in report["interfaces"]:
         high, low = interface["parts"]  # material ids follow the priority: the first is higher
         box = shapes[low].BoundBox
         box.enlarge(1e-3)
-        occt = sum(f.common(shapes[low]).Area for f in shapes[high].Faces if box.intersect(f.BoundBox))
+        occt = sum(f.common(shapes[low], tolerance).Area for f in shapes[high].Faces if box.intersect(f.BoundBox))
         group = face_groups.get(interface["name"])
         areas[interface["name"]] = (face_group_area(fm, group) if group is not None else None, occt)
     return areas
@@ -185,6 +187,7 @@ def check(out):
     out["final_check"] = report["thesis"]["final_check"]
     out["quality"] = report["quality"]
 
+    out["contact_tolerance"] = report["contact_tolerance"]
     step("interfaces against OpenCASCADE")
     out["interface_areas"] = interface_areas(mesh, report, build_job(mesh)[0])
 
