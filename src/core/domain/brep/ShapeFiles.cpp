@@ -86,6 +86,18 @@ double largestStepUncertainty(const STEPControl_Reader& reader) {
   return largest;
 }
 
+// What OpenCASCADE failing inside a reader says about the file.
+InputError unreadableFile(const std::string& what, const Standard_Failure& failure) {
+  return InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
+                    "): export it again from the CAD tool");
+}
+
+// Reads the file into `reader`'s STEP model (no shapes transferred yet).
+void readStepModel(STEPControl_Reader& reader, const std::string& path, const std::string& what) {
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+    throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+}
+
 // The parameter delimiter and record delimiter an IGES file declares at the start of its
 // global section ("1H," and "1H;", or empty fields for those defaults).
 std::pair<char, char> igesDelimiters(const std::string& global) {
@@ -207,12 +219,10 @@ double declaredStepUncertainty(const std::string& path, const std::string& what)
   if (ext != "step" && ext != "stp") throw InputError(what + " is no STEP file (.step, .stp)");
   try {
     STEPControl_Reader reader;
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-      throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+    readStepModel(reader, path, what);
     return largestStepUncertainty(reader);
   } catch (const Standard_Failure& failure) {
-    throw InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
-                     "): export it again from the CAD tool");
+    throw unreadableFile(what, failure);
   }
 }
 
@@ -228,8 +238,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, dou
   try {
     if (ext == "step" || ext == "stp") {
       STEPControl_Reader reader;
-      if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-        throw InputError(what + " is not a readable STEP file: export it again as STEP AP203/AP214 from the CAD tool");
+      readStepModel(reader, path, what);
       requireFiniteStepPoints(reader, what);
       if (reader.TransferRoots() == 0)
         throw InputError(what + " holds no shape OpenCASCADE can transfer: export it again as STEP AP203/AP214");
@@ -253,8 +262,7 @@ TopoDS_Shape readShapeFile(const std::string& path, const std::string& what, dou
                        "': give a STEP (.step, .stp), IGES (.iges, .igs) or BREP (.brep, .brp) file");
     }
   } catch (const Standard_Failure& failure) {
-    throw InputError(what + " could not be read (" + std::string(failure.GetMessageString()) +
-                     "): export it again from the CAD tool");
+    throw unreadableFile(what, failure);
   }
   return shape;
 }
