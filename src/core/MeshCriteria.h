@@ -41,6 +41,14 @@ struct CriteriaTable {
   // Sizes from the geometry (curvature, short edges, wall thickness); null when the job
   // leaves sizing to the constants alone.
   std::shared_ptr<const SizeField> field;
+  // Sizes that keep gaps between parts open; null when there are none. They lower the sizes
+  // on the surfaces (facets, facet distance, feature edges), the user's too: two parts apart
+  // stay apart at every mesh size. Not the cells: a gap is empty space, the faces across it
+  // are what must not meet, and the cells behind them grade by their radius-edge bound.
+  std::shared_ptr<const SizeField> gap_field;
+
+  // Whether sizes vary over space (either field is set).
+  bool varies() const { return field || gap_field; }
 
   const MaterialCriteria& of(int material) const {
     auto it = per_material.find(material);
@@ -48,29 +56,36 @@ struct CriteriaTable {
   }
 
   // The criteria at p, a point of (or on the boundary of) `material`: the constants, lowered by
-  // the sizing field where the job left them unset.
+  // the sizing field where the job left them unset, and on the surfaces by the gap sizes.
   double cellSizeAt(int material, const Point3& p) const {
     const MaterialCriteria& c = of(material);
     return field && c.from_field.cell_size ? std::min(c.cell_size, field->at(p)) : c.cell_size;
   }
   double facetSizeAt(int material, const Point3& p) const {
     const MaterialCriteria& c = of(material);
-    return field && c.from_field.facet_size ? std::min(c.facet_size, field->at(p)) : c.facet_size;
+    const double size = field && c.from_field.facet_size ? std::min(c.facet_size, field->at(p)) : c.facet_size;
+    return gap_field ? std::min(size, gap_field->at(p)) : size;
   }
   double facetDistanceAt(int material, const Point3& p) const {
     const MaterialCriteria& c = of(material);
-    return field && c.from_field.facet_distance ? std::min(c.facet_distance, kFacetDistancePerSize * field->at(p))
-                                                : c.facet_distance;
+    const double distance = field && c.from_field.facet_distance
+                                ? std::min(c.facet_distance, kFacetDistancePerSize * field->at(p))
+                                : c.facet_distance;
+    return gap_field ? std::min(distance, kFacetDistancePerSize * gap_field->at(p)) : distance;
   }
   // Feature edges belong to no one material: the strictest edge_size, lowered by the field
-  // unless some material was given its edge size.
+  // unless some material was given its edge size, and by the gaps.
   double edgeSizeAt(const Point3& p) const {
-    const double strict = strictest(&MaterialCriteria::edge_size);
-    if (!field) return strict;
-    if (!defaults.from_field.edge_size) return strict;
+    double size = strictest(&MaterialCriteria::edge_size);
+    if (field && edgeSizeFromField()) size = std::min(size, kEdgeSizePerSize * field->at(p));
+    if (gap_field) size = std::min(size, kEdgeSizePerSize * gap_field->at(p));
+    return size;
+  }
+  bool edgeSizeFromField() const {
+    if (!defaults.from_field.edge_size) return false;
     for (const auto& [material, c] : per_material)
-      if (!c.from_field.edge_size) return strict;
-    return std::min(strict, kEdgeSizePerSize * field->at(p));
+      if (!c.from_field.edge_size) return false;
+    return true;
   }
 
   // The strictest value of one criterion over all materials, for settings that take one value

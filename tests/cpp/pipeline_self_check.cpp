@@ -16,6 +16,8 @@
 #include "job/MeshSelfCheck.h"
 #include "job/Pipeline.h"
 #include "mesh/Quality.h"
+#include "mesh/Topology.h"
+#include "mesh_checks.h"
 #include "mesh_fixtures.h"
 #include "occt_checks.h"
 
@@ -144,49 +146,83 @@ nlohmann::json twoBoxesJob(double gap, double cellSize) {
           {"seed", 0}};
 }
 
-// Two cubes 0.5 apart meshed with cells of 5: tetrahedra reach across the gap and bond them.
-// Each node of the faces between them is on one cube and 0.5 from the other.
+// Two 10 mm cubes 0.5 apart, and a mesh that bridges the gap as a coarse one would (the sizes
+// now keep such a gap open: SizeFieldGaps): the lower cube's six tets, and the upper part's
+// from the lower's top face (z = 10) up to z = 20.5, so the faces between them lie on the
+// lower cube and 0.5 from the upper.
+struct BridgedCubes {
+  HierarchicalOracle oracle;
+  TetMesh mesh;
+};
+
+BridgedCubes bridgedCubes() {
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 10.5), 10, 10, 10).Shape();
+  BridgedCubes b{HierarchicalOracle({{std::make_shared<BrepSolid>(lower, "lower"), Role::Material, 1},
+                                     {std::make_shared<BrepSolid>(upper, "upper"), Role::Material, 2}}),
+                 test::kuhnCube(false, 10)};
+  const TetMesh cell = test::kuhnCube();
+  int64_t corner[8];
+  for (int i = 0; i < 8; ++i) {
+    if (i & 4) {
+      corner[i] = static_cast<int64_t>(b.mesh.points.size());
+      b.mesh.points.push_back({10.0 * (i & 1), 10.0 * ((i >> 1) & 1), 20.5});
+    } else {
+      corner[i] = i + 4;  // the lower cube's top corner at the same x and y
+    }
+  }
+  for (auto t : cell.tets) {
+    for (auto& v : t) v = corner[v];
+    b.mesh.tets.push_back(t);
+    b.mesh.tet_materials.push_back(2);
+  }
+  b.mesh.vertex_dimension.assign(b.mesh.points.size(), 2);
+  b.mesh.vertex_curve.assign(b.mesh.points.size(), -1);
+  b.mesh.boundary = extractBoundary(b.mesh);
+  return b;
+}
+
 TEST(SelfCheck, PartsJoinedAcrossAGapAreReported) {
-  const JobResult result = runJob(JobSpec::fromJson(twoBoxesJob(0.5, 5), "."), RunControl());
-  const json& check = result.report.at("self_check");
-  EXPECT_FALSE(check.at("ok").get<bool>());
-  ASSERT_EQ(check.at("joined").size(), 1u) << check.dump(1);
-  const json& joined = check.at("joined")[0];
-  EXPECT_EQ(joined.at("materials"), json::array({1, 2}));
-  EXPECT_NEAR(joined.at("widest_gap").get<double>(), 0.5, 1e-9);
-  EXPECT_GT(joined.at("joined_area").get<double>(), 0.0);
+  const BridgedCubes b = bridgedCubes();
+  const MeshSelfCheck check = checkMeshAgainstInputs(b.mesh, b.oracle, measureQuality(b.mesh).volume_per_material);
+  ASSERT_EQ(check.joined.size(), 1u);
+  const JoinedAcrossGap& joined = check.joined[0];
+  EXPECT_EQ(joined.material, 1);
+  EXPECT_EQ(joined.other_material, 2);
+  EXPECT_NEAR(joined.widest_gap, 0.5, 1e-9);
   // Every face between them crosses the gap: none lies where the cubes touch, for they do not.
-  EXPECT_NEAR(joined.at("joined_area").get<double>(), joined.at("interface_area").get<double>(), 1e-9);
+  EXPECT_NEAR(joined.interface_area, 100.0, 1e-9);
+  EXPECT_NEAR(joined.joined_area, joined.interface_area, 1e-9);
+  const auto problem = std::find_if(check.problems.begin(), check.problems.end(), [](const std::string& p) {
+    return p.find("materials 1 ('lower') and 2 ('upper') are joined across a gap") != std::string::npos;
+  });
+  ASSERT_NE(problem, check.problems.end()) << ::testing::PrintToString(check.problems);
+  EXPECT_NE(problem->find("up to 0.5 away"), std::string::npos) << *problem;
+}
+
+// The same gap through a whole job, at a cell size ten times its width: the sizes keep the
+// cubes apart (issue 16: at every mesh size), so "checks": "error" has nothing to refuse.
+TEST(SelfCheck, AJobAtCellsTenTimesTheGapKeepsTheCubesApart) {
   json job = twoBoxesJob(0.5, 5);
   job["checks"] = "error";
-  try {
-    runJob(JobSpec::fromJson(job, "."), RunControl());
-    FAIL() << "a mesh bonding two cubes 0.5 apart was accepted";
-  } catch (const MeshCheckError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("materials 1 ('lower') and 2 ('upper') are joined across a gap"), std::string::npos)
-        << message;
-    EXPECT_NE(message.find("up to 0.5 away"), std::string::npos) << message;
-  }
+  const JobResult result = runJob(JobSpec::fromJson(job, "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_TRUE(check.at("joined").empty()) << check.dump(1);
+  EXPECT_TRUE(result.report.at("interfaces").empty()) << result.report.at("interfaces").dump(1);
+  const auto volumes = test::volumePerMaterial(result.mesh);
+  EXPECT_NEAR(volumes.at(1), 1000, 1e-6);
+  EXPECT_NEAR(volumes.at(2), 1000, 1e-6);
 }
 
 // A node the snap left off the CAD is allowed its distance there, not everywhere: one such
 // node away from the gap (presse_asm at "moderate": 0.72 mm) must not hide a 0.5 mm gap the
 // mesh bridges, while the same allowance at every node of the faces between them does.
 TEST(SelfCheck, ANodeLeftOffTheCadWidensTheGapTestAtThatNodeOnly) {
-  const JobResult result = runJob(JobSpec::fromJson(twoBoxesJob(0.5, 5), "."), RunControl());
-  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
-  const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 10.5), 10, 10, 10).Shape();
-  const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(lower, "lower"), Role::Material, 1},
-                                   {std::make_shared<BrepSolid>(upper, "upper"), Role::Material, 2}});
-  const TetMesh& mesh = result.mesh;
+  const BridgedCubes b = bridgedCubes();
+  const TetMesh& mesh = b.mesh;
   std::vector<double> kept(mesh.points.size(), 0.0);
-  int64_t awayFromTheGap = -1;
-  for (size_t v = 0; v < mesh.points.size() && awayFromTheGap < 0; ++v)
-    if (mesh.points[v][2] < 1e-9) awayFromTheGap = static_cast<int64_t>(v);  // on the bottom face
-  ASSERT_GE(awayFromTheGap, 0);
-  kept[awayFromTheGap] = 0.72;
-  const std::vector<JoinedAcrossGap> stillJoined = findPartsJoinedAcrossGaps(mesh, oracle, 1e-9, kept);
+  kept[0] = 0.72;  // the lower cube's corner at the origin, on its bottom face
+  const std::vector<JoinedAcrossGap> stillJoined = findPartsJoinedAcrossGaps(mesh, b.oracle, 1e-9, kept);
   ASSERT_EQ(stillJoined.size(), 1u);
   EXPECT_NEAR(stillJoined[0].joined_area, stillJoined[0].interface_area, 1e-9);
 
@@ -194,7 +230,7 @@ TEST(SelfCheck, ANodeLeftOffTheCadWidensTheGapTestAtThatNodeOnly) {
   for (const BoundaryTriangle& t : mesh.boundary)
     if (t.material_in > 0 && t.material_out > 0 && t.material_in != t.material_out)
       for (int64_t v : t.v) kept[v] = 0.6;
-  EXPECT_TRUE(findPartsJoinedAcrossGaps(mesh, oracle, 1e-9, kept).empty());
+  EXPECT_TRUE(findPartsJoinedAcrossGaps(mesh, b.oracle, 1e-9, kept).empty());
 }
 
 // Cubes that touch share their interface exactly: every node on it lies on both.

@@ -159,7 +159,7 @@ TEST(SizeFieldGaps, CubesHalfAMillimetreApartStayApartAtEveryPresetUpToFine) {
     const JobResult r = twoCubes(0.5, preset.name);
     const json& check = r.report.at("self_check");
     std::cout << "[ figures  ] " << preset.name << ": " << r.mesh.tets.size() << " tets, gap samples "
-              << r.report.at("criteria").at("size_field").at("samples").at("gap") << "\n";
+              << r.report.at("criteria").at("gap_sizes").at("samples").at("gap") << "\n";
     EXPECT_TRUE(check.at("joined").empty()) << preset.name << ": " << check.dump(1);
     EXPECT_TRUE(r.report.at("interfaces").empty()) << preset.name << ": " << r.report.at("interfaces").dump(1);
     const auto volumes = test::volumePerMaterial(r.mesh);
@@ -168,13 +168,31 @@ TEST(SizeFieldGaps, CubesHalfAMillimetreApartStayApartAtEveryPresetUpToFine) {
   }
 }
 
+// Without a fineness ("off", the sizes constant) a gap gets sizes too: cells of 1.4 mm had
+// bonded cubes 0.2 mm apart over 39 of their 100 mm^2.
+TEST(SizeFieldGaps, CubesAFifthOfAMillimetreApartStayApartWithoutAFineness) {
+  const JobResult r = twoCubes(0.2, "off");
+  const json& gapSizes = r.report.at("criteria").at("gap_sizes");
+  EXPECT_FALSE(r.report.at("criteria").contains("size_field"));
+  ASSERT_EQ(gapSizes.at("gaps").size(), 1u) << gapSizes.dump(1);
+  EXPECT_NEAR(gapSizes.at("gaps")[0].at("width").get<double>(), 0.2, 1e-9);
+  EXPECT_GT(gapSizes.at("samples").at("gap").get<int>(), 0);
+  EXPECT_NEAR(gapSizes.at("smallest").at("size").get<double>(),
+              0.2 / gapSizes.at("sizes_per_gap").get<double>(), 1e-9);
+  EXPECT_TRUE(r.report.at("self_check").at("joined").empty()) << r.report.at("self_check").dump(1);
+  EXPECT_TRUE(r.report.at("interfaces").empty()) << r.report.at("interfaces").dump(1);
+  const auto volumes = test::volumePerMaterial(r.mesh);
+  EXPECT_NEAR(volumes.at(1), 1000, 1e-6);
+  EXPECT_NEAR(volumes.at(2), 1000, 1e-6);
+}
+
 TEST(SizeFieldGaps, CubesWithinTheContactToleranceAreBonded) {
   const JobResult r = twoCubes(1e-9, "moderate");
   // The default: 1e-6 of the diagonal (BRep boxes carry 1e-7, BREP text declares nothing).
   EXPECT_EQ(r.report.at("contact_tolerance").at("from"), "diagonal");
   EXPECT_NEAR(r.report.at("contact_tolerance").at("value").get<double>(), 1e-6 * std::sqrt(100 + 100 + 400), 1e-9);
-  EXPECT_TRUE(r.report.at("criteria").at("size_field").at("gaps").empty());
-  EXPECT_EQ(r.report.at("criteria").at("size_field").at("samples").at("gap"), 0);
+  EXPECT_TRUE(r.report.at("criteria").at("gap_sizes").at("gaps").empty());
+  EXPECT_FALSE(r.report.at("criteria").at("gap_sizes").contains("samples"));
   EXPECT_TRUE(r.report.at("self_check").at("joined").empty()) << r.report.at("self_check").dump(1);
   ASSERT_EQ(r.report.at("interfaces").size(), 1u);
   EXPECT_NEAR(r.report.at("interfaces")[0].at("area").get<double>(), 100.0, 1e-6);
@@ -184,7 +202,7 @@ TEST(SizeFieldGaps, CubesWithinTheContactToleranceAreBonded) {
 // width makes the cubes touch: no gap sizes, and the self-check takes them as touching.
 TEST(SizeFieldGaps, TheReportListsTheGapAndAWiderContactToleranceBondsIt) {
   const JobResult apart = twoCubes(0.5, "coarse");
-  const json& gaps = apart.report.at("criteria").at("size_field").at("gaps");
+  const json& gaps = apart.report.at("criteria").at("gap_sizes").at("gaps");
   ASSERT_EQ(gaps.size(), 1u) << gaps.dump(1);
   EXPECT_EQ(gaps[0].at("between"), json({"lower", "upper"}));
   EXPECT_NEAR(gaps[0].at("width").get<double>(), 0.5, 1e-9);
@@ -193,8 +211,8 @@ TEST(SizeFieldGaps, TheReportListsTheGapAndAWiderContactToleranceBondsIt) {
   job["contact_tolerance"] = 0.6;
   const JobResult bonded = runJob(JobSpec::fromJson(job, ""), RunControl());
   EXPECT_EQ(bonded.report.at("contact_tolerance"), json({{"value", 0.6}, {"from", "job"}}));
-  EXPECT_EQ(bonded.report.at("criteria").at("size_field").at("samples").at("gap"), 0);
-  EXPECT_TRUE(bonded.report.at("criteria").at("size_field").at("gaps").empty());
+  EXPECT_FALSE(bonded.report.at("criteria").at("gap_sizes").contains("samples"));
+  EXPECT_TRUE(bonded.report.at("criteria").at("gap_sizes").at("gaps").empty());
   EXPECT_GE(bonded.report.at("self_check").at("contact_tolerance").get<double>(), 0.6);
   EXPECT_TRUE(bonded.report.at("self_check").at("joined").empty());
 
@@ -204,12 +222,12 @@ TEST(SizeFieldGaps, TheReportListsTheGapAndAWiderContactToleranceBondsIt) {
   job["cad_uncertainty"] = 0.6;
   const JobResult declared = runJob(JobSpec::fromJson(job, ""), RunControl());
   EXPECT_EQ(declared.report.at("contact_tolerance"), json({{"value", 0.6}, {"from", "cad_uncertainty (job)"}}));
-  EXPECT_EQ(declared.report.at("criteria").at("size_field").at("samples").at("gap"), 0);
+  EXPECT_FALSE(declared.report.at("criteria").at("gap_sizes").contains("samples"));
   EXPECT_TRUE(declared.report.at("self_check").at("joined").empty());
   job["contact_tolerance"] = 0.01;
   const JobResult explicitWins = runJob(JobSpec::fromJson(job, ""), RunControl());
   EXPECT_EQ(explicitWins.report.at("contact_tolerance"), json({{"value", 0.01}, {"from", "job"}}));
-  EXPECT_EQ(explicitWins.report.at("criteria").at("size_field").at("gaps").size(), 1u);
+  EXPECT_EQ(explicitWins.report.at("criteria").at("gap_sizes").at("gaps").size(), 1u);
 }
 
 // A gap of 1e-3 mm at "moderate" asks for 3e-4 mm over 100 mm^2 on both sides, some 1e9
@@ -218,7 +236,7 @@ TEST(SizeFieldGaps, AGapTooNarrowForTheVertexLimitNamesBothPartsAndTheFixes) {
   const std::string message = test::inputErrorOf([] { twoCubes(1e-3, "moderate"); });
   for (const char* part : {"the gap between inputs 'lower' and 'upper' is 0.001 wide at (",
                            "contact_tolerance above 0.001 (now ", ") to bond them",
-                           "criteria.fineness \"off\" and criteria.cell_size", "limits.max_vertices = 5000000"})
+                           "raise limits.max_vertices", "limits.max_vertices = 5000000"})
     EXPECT_NE(message.find(part), std::string::npos) << part << "\n" << message;
 }
 

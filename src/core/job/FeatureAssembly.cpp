@@ -50,7 +50,7 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
     const auto* solid = oracle.entries()[i].source->brepTopology();
     if (!solid) continue;
     std::function<double(const Point3&)> localEdgeSize;
-    if (table.field) localEdgeSize = [&table](const Point3& p) { return table.edgeSizeAt(p); };
+    if (table.varies()) localEdgeSize = [&table](const Point3& p) { return table.edgeSizeAt(p); };
     FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta, localEdgeSize);
     for (FeaturePolyline& pl : g.polylines) {
       pl.curve = nextCurve++;  // extraction numbers per solid; the graph needs global ids

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Error.h"
+#include "job/ResolvedCriteria.h"
 #include "sizing/Fineness.h"
 
 namespace oraclemesh {
@@ -91,18 +92,14 @@ json thesisJson(const ThesisEngineReport& thesis, const std::vector<InputReport>
   return engineReport;
 }
 
-// report.criteria.size_field: what the geometry asked for, where the job left sizes unset.
-json sizeFieldJson(const std::string& fineness, const SizeField& field) {
-  const FinenessPreset* preset = findFineness(fineness);
+// A sizing field's figures: its grading and cap, its samples per reason, its smallest size.
+json sizeFieldJson(const SizeField& field) {
   json samples = json::object();
   for (int r = 0; r < kSizeReasonCount; ++r)
-    samples[sizeReasonName(static_cast<SizeReason>(r))] = field.sampleCount(static_cast<SizeReason>(r));
-  json j = {{"fineness", fineness}, {"grading", field.grading()}, {"largest", field.cap()},
-            {"samples", samples}, {"samples_taken", field.samplesTaken()}};
-  if (preset) {
-    j["segments_per_circle"] = preset->segments_per_circle;
-    j["sizes_per_thickness"] = preset->sizes_per_thickness;
-  }
+    if (field.sampleCount(static_cast<SizeReason>(r)) > 0)
+      samples[sizeReasonName(static_cast<SizeReason>(r))] = field.sampleCount(static_cast<SizeReason>(r));
+  json j = {{"grading", field.grading()}, {"largest", field.cap()}, {"samples", samples},
+            {"samples_taken", field.samplesTaken()}};
   if (field.sampleCount() > 0)
     j["smallest"] = {{"size", field.smallestSize()}, {"at", field.smallestAt()},
                      {"reason", sizeReasonName(field.smallestReason())}};
@@ -113,15 +110,22 @@ json criteriaReportJson(const JobReport& r) {
   json crit = {{"default", criteriaJson(r.criteria.defaults)}, {"materials", json::object()}};
   for (const auto& [material, c] : r.criteria.per_material) crit["materials"][std::to_string(material)] = criteriaJson(c);
   crit["fineness"] = r.fineness;
+  const FinenessPreset* preset = findFineness(r.fineness);
+  // report.criteria.size_field: what the geometry asked for, where the job left sizes unset.
   if (r.criteria.field) {
-    crit["size_field"] = sizeFieldJson(r.fineness, *r.criteria.field);
-    // Gaps the field resolves, narrowest first: a width at the CAD's tolerance is a pair the
-    // user may want bonded (contact_tolerance).
-    json gaps = json::array();
-    for (const PartGap& g : r.gaps)
-      gaps.push_back({{"between", {r.inputs[g.entry].name, r.inputs[g.other].name}}, {"width", g.width}, {"at", g.at}});
-    crit["size_field"]["gaps"] = gaps;
+    crit["size_field"] = sizeFieldJson(*r.criteria.field);
+    crit["size_field"]["fineness"] = r.fineness;
+    crit["size_field"]["segments_per_circle"] = preset->segments_per_circle;
+    crit["size_field"]["sizes_per_thickness"] = preset->sizes_per_thickness;
   }
+  // report.criteria.gap_sizes: the gaps between parts the sizes keep open, narrowest first (a
+  // width at the CAD's tolerance is a pair the user may want bonded: contact_tolerance).
+  json gaps = json::array();
+  for (const PartGap& g : r.gaps)
+    gaps.push_back({{"between", {r.inputs[g.entry].name, r.inputs[g.other].name}}, {"width", g.width}, {"at", g.at}});
+  crit["gap_sizes"] = r.criteria.gap_field ? sizeFieldJson(*r.criteria.gap_field) : json::object();
+  crit["gap_sizes"]["gaps"] = gaps;
+  crit["gap_sizes"]["sizes_per_gap"] = sizesPerGap(preset);
   if (r.engine_run.mesh3) {
     const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
     crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;

@@ -10,11 +10,11 @@ namespace {
 
 // Mesh_3's protecting balls along the features: the job's edge size, lowered where curves run
 // close to one another or are short (features/FeatureSeparation), down to 1e-4 of the diagonal,
-// and where the sizing field asks for less.
+// and where the sizing field or a gap asks for less.
 FeatureEdgeSizes localEdgeSizes(const FeatureGraph& features, const CriteriaTable& table, double diagonal) {
   FeatureEdgeSizes sizes = localFeatureEdgeSizes(features, table.strictest(&MaterialCriteria::edge_size),
                                                  1e-4 * diagonal, 1e-9 * diagonal);
-  if (table.field)
+  if (table.varies())
     for (size_t i = 0; i < sizes.at_points.size() && i < features.polylines.size(); ++i)
       for (size_t k = 0; k < sizes.at_points[i].size() && k < features.polylines[i].points.size(); ++k)
         sizes.at_points[i][k] = std::min(sizes.at_points[i][k], table.edgeSizeAt(features.polylines[i].points[k]));

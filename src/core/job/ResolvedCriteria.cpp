@@ -20,6 +20,11 @@ constexpr double kSmallestSizeOfDiagonal = 1e-6;
 // thickness sample each: those the others give within 10 % are dropped (the field is then at
 // most 10 % above the one of all samples, sizing/SampleThinning.h).
 constexpr double kSampleThinning = 0.1;
+// Gap sizes where the job gives its sizes (criteria.fineness "off"): a surface size the gap's
+// width keeps the faces on both sides apart (half a size did on cubes 0.05 - 0.5 mm apart
+// under cells of 1.4 mm), graded as at "coarse".
+constexpr double kSizesPerGapAtGivenSizes = 1;
+constexpr double kGapGradingAtGivenSizes = 0.5;
 
 MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallback) {
   MaterialCriteria c = fallback;
@@ -115,19 +120,27 @@ const FinenessPreset* jobFineness(const JobSpec& job) {
   return job.fineness ? findFineness(*job.fineness) : nullptr;  // "off" is no preset
 }
 
+double sizesPerGap(const FinenessPreset* fineness) {
+  return fineness ? fineness->sizes_per_thickness : kSizesPerGapAtGivenSizes;
+}
+
 std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
                                      double contactTolerance, const RunControl& control) {
   const FinenessPreset* fineness = jobFineness(job);
-  if (!fineness) return {};
+  const auto isBrep = [](const OracleEntry& e) { return e.source->brepTopology() != nullptr; };
+  if (!fineness && std::count_if(oracle.entries().begin(), oracle.entries().end(), isBrep) < 2) return {};
   const double sharpAngle = job.features ? job.sharp_angle_deg : 0;
-  const double cap = table.defaults.cell_size;
-  GeometrySizes sizes = geometrySizes(oracle, *fineness, sharpAngle, cap, contactTolerance,
+  // Gaps in every material: the largest cell size any has.
+  const double cap = table.strictest(&MaterialCriteria::cell_size, false);
+  const double perGap = sizesPerGap(fineness);
+  const double grading = fineness ? fineness->grading : kGapGradingAtGivenSizes;
+  GeometrySizes sizes = geometrySizes(oracle, fineness, perGap, sharpAngle, cap, contactTolerance,
                                       static_cast<double>(job.max_vertices), control);
+  const std::string preset = "criteria.fineness " + std::string(fineness ? fineness->name : "off");
   if (!(sizes.surface_vertices <= static_cast<double>(job.max_vertices))) {
     const std::string tooMany = " would give about " + roughCount(sizes.surface_vertices) +
                                 " vertices on the surfaces alone, more than limits.max_vertices = " +
                                 std::to_string(job.max_vertices);
-    const std::string preset = "criteria.fineness " + std::string(fineness->name);
     const Point3& at = sizes.smallest.point;
     char where[200];
     // The narrowest gap of the entry asking the most asks its smallest size.
@@ -136,15 +149,15 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
     });
     if (sizes.smallest.reason == SizeReason::Gap && gap != sizes.gaps.end()) {
       std::snprintf(where, sizeof where, "%g wide at (%g, %g, %g) asks for size %g", gap->width, gap->at[0],
-                    gap->at[1], gap->at[2], gap->width / fineness->sizes_per_thickness);
+                    gap->at[1], gap->at[2], gap->width / perGap);
       char bond[160];
       std::snprintf(bond, sizeof bond, "contact_tolerance above %g (now %g)", gap->width, contactTolerance);
       throw InputError("the gap between inputs '" + oracle.entries()[gap->entry].source->name() + "' and '" +
                        oracle.entries()[gap->other].source->name() + "' is " + where + " (" + preset +
                        "), and the sizes the geometry asks for" + tooMany +
                        ": if the two parts are meant to touch, set " + bond +
-                       " to bond them; else give the sizes yourself (criteria.fineness \"off\" and "
-                       "criteria.cell_size), or raise limits.max_vertices");
+                       " to bond them; else raise limits.max_vertices (the mesh keeps parts that do not touch "
+                       "apart at every size)");
     }
     std::snprintf(where, sizeof where, "%g at (%g, %g, %g), from %s", sizes.smallest.size, at[0], at[1], at[2],
                   sizeReasonName(sizes.smallest.reason));
@@ -152,8 +165,12 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
                      oracle.entries()[sizes.largest_entry].source->name() + "' " + where + ")" + tooMany +
                      ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
   }
-  table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap,
-                                                  kSmallestSizeOfDiagonal * oracle.diagonal(), kSampleThinning);
+  const double floor = kSmallestSizeOfDiagonal * oracle.diagonal();
+  if (fineness)
+    table.field = std::make_shared<const SizeField>(std::move(sizes.samples), grading, cap, floor, kSampleThinning);
+  if (!sizes.gap_samples.empty())
+    table.gap_field =
+        std::make_shared<const SizeField>(std::move(sizes.gap_samples), grading, cap, floor, kSampleThinning);
   return std::move(sizes.gaps);
 }
 

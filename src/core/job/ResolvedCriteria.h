@@ -21,12 +21,17 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 // The fineness preset the job asks for (criteria.fineness); nullptr for "off" or none.
 const FinenessPreset* jobFineness(const JobSpec& job);
 
-// Puts the sizing field of the job's fineness (sizing/GeometrySizes.h) into `table`, capped by
-// the default cell size; nothing when the job's fineness is off. Gaps between inputs wider
-// than `contactTolerance` get sizes; returns each pair's narrowest gap, narrowest first.
-// Throws InputError when the sizes the geometry asks for would give more surface vertices
-// than limits.max_vertices (naming the input, the smallest size, where and why; for a gap, the
-// two parts, its width and the contact tolerance that would bond them).
+// How many sizes a gap between two parts is wide at least: the preset's sizes per thickness,
+// or a fixed number where the job gives its sizes (fineness nullptr).
+double sizesPerGap(const FinenessPreset* fineness);
+
+// Puts the sizing field of the job's fineness (sizing/GeometrySizes.h) into `table` (nothing
+// when the job's fineness is off), and the sizes that keep gaps between B-rep inputs wider
+// than `contactTolerance` open (at every fineness, "off" too), both capped by the largest cell
+// size. Returns each pair's narrowest gap, narrowest first. Throws InputError when the sizes
+// the geometry asks for would give more surface vertices than limits.max_vertices (naming the
+// input, the smallest size, where and why; for a gap, the two parts, its width and the contact
+// tolerance that would bond them).
 std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
                                      double contactTolerance, const RunControl& control);
 

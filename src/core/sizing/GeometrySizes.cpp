@@ -123,12 +123,14 @@ class FaceSampler {
  public:
   // Measures the sizes each triangle asks for at its corners and centre (what the estimate
   // and the dense sampling need), capped at `cap`.
-  FaceSampler(const BrepTopology& solid, const FinenessPreset& fineness, double diagonal, double cap,
+  // Without a fineness, the triangles ask for the cap alone (only gaps lower it).
+  FaceSampler(const BrepTopology& solid, const FinenessPreset* fineness, double diagonal, double cap,
               const RunControl& control)
       : solid_(solid),
         triangles_(faceTriangles(solid)),
-        sizeOverRadius_(sizePerRadius(fineness.segments_per_circle)),
-        sizesPerThickness_(fineness.sizes_per_thickness),
+        fromShape_(fineness != nullptr),
+        sizeOverRadius_(fineness ? sizePerRadius(fineness->segments_per_circle) : 0),
+        sizesPerThickness_(fineness ? fineness->sizes_per_thickness : 0),
         offset_(1e-7 * diagonal) {
     for (const FaceTriangle& t : triangles_)
       cgalTriangles_.emplace_back(K::Point_3(t.corners[0][0], t.corners[0][1], t.corners[0][2]),
@@ -144,11 +146,13 @@ class FaceSampler {
       const FaceTriangle& t = triangles_[i];
       double local = cap;
       SizeReason reason = SizeReason::Curvature;
-      for (int k = 0; k < 3; ++k) local = std::min(local, curvatureSize(t, {k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0}));
-      const double thickness = thicknessSize(t, i, centroid(t));
-      if (thickness < local) {
-        local = thickness;
-        reason = SizeReason::Thickness;
+      if (fromShape_) {
+        for (int k = 0; k < 3; ++k) local = std::min(local, curvatureSize(t, {k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0}));
+        const double thickness = thicknessSize(t, i, centroid(t));
+        if (thickness < local) {
+          local = thickness;
+          reason = SizeReason::Thickness;
+        }
       }
       local_[i] = local;
       // A surface mesh of ball radius s has triangles of about s^2 and half as many vertices
@@ -180,10 +184,12 @@ class FaceSampler {
   double surfaceVertices() const { return surfaceVertices_; }
   const SizeSample& smallest() const { return smallest_; }
 
-  // Curvature, thickness and gap samples spaced at the sizes each triangle asks for; `gapSize`
-  // (triangle, point): the size a gap outside the solid asks for there, infinity for none.
+  // Curvature and thickness samples (into `shape`, with a fineness) and gap samples (into
+  // `gaps`) spaced at the sizes each triangle asks for; `gapSize` (triangle, point): the size a
+  // gap outside the solid asks for there, infinity for none.
   template <class GapSize>
-  void addSamples(std::vector<SizeSample>& out, const GapSize& gapSize, const RunControl& control) {
+  void addSamples(std::vector<SizeSample>& shape, std::vector<SizeSample>& gaps, const GapSize& gapSize,
+                  const RunControl& control) {
     for (size_t i = 0; i < triangles_.size(); ++i) {
       if (i % 1024 == 0) control.checkpoint();
       const FaceTriangle& t = triangles_[i];
@@ -195,12 +201,14 @@ class FaceSampler {
         for (int b = 0; a + b <= steps; ++b) {
           const double wa = double(a) / steps, wb = double(b) / steps;
           const Point3 p = wa * t.corners[0] + wb * t.corners[1] + (1 - wa - wb) * t.corners[2];
-          const double curvature = curvatureSize(t, {wa, wb});
-          if (std::isfinite(curvature)) out.push_back({p, curvature, SizeReason::Curvature});
-          const double thickness = thicknessSize(t, i, p);
-          if (std::isfinite(thickness)) out.push_back({p, thickness, SizeReason::Thickness});
+          if (fromShape_) {
+            const double curvature = curvatureSize(t, {wa, wb});
+            if (std::isfinite(curvature)) shape.push_back({p, curvature, SizeReason::Curvature});
+            const double thickness = thicknessSize(t, i, p);
+            if (std::isfinite(thickness)) shape.push_back({p, thickness, SizeReason::Thickness});
+          }
           const double gap = gapSize(t, p);
-          if (std::isfinite(gap)) out.push_back({p, gap, SizeReason::Gap});
+          if (std::isfinite(gap)) gaps.push_back({p, gap, SizeReason::Gap});
         }
     }
   }
@@ -252,6 +260,7 @@ class FaceSampler {
   std::unique_ptr<TriangleTree> tree_;
   std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
   std::vector<bool> planar_;
+  bool fromShape_;  // curvature and thickness count (a fineness is set)
   double sizeOverRadius_, sizesPerThickness_, offset_;
   std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
   double surfaceVertices_ = 0;
@@ -259,7 +268,7 @@ class FaceSampler {
 };
 
 // Gaps between inputs: from a face sample outwards along the normal to the first face of
-// another input facing back. A gap of width w asks for w / sizes_per_thickness on both sides,
+// another input facing back. A gap of width w asks for w / sizesPerGap on both sides,
 // so the faces' triangles are small enough that no tetrahedron reaches across (its
 // circumcentre would lie in the gap, outside both parts). Inputs closer than the job's
 // contact tolerance touch: no gap, they are bonded. The width is measured between the faces'
@@ -274,12 +283,12 @@ class GapRays {
   };
 
   GapRays(const std::vector<FaceSampler>& samplers, const std::vector<const Source*>& sources, double diagonal,
-          double sizesPerThickness, double cap, double contactTolerance)
+          double sizesPerGap, double cap, double contactTolerance)
       : samplers_(samplers),
         sources_(sources),
         offset_(1e-7 * diagonal),
         contactTolerance_(contactTolerance),
-        sizesPerThickness_(sizesPerThickness),
+        sizesPerGap_(sizesPerGap),
         cap_(cap) {
     for (size_t s = 0; s < samplers.size(); ++s)
       for (size_t i = 0; i < samplers[s].triangles().size(); ++i) {
@@ -311,7 +320,7 @@ class GapRays {
     const FaceTriangle& facing = samplers_[other].triangles()[j];
     if (other == owner || dot(facing.normal, t.normal) > -0.2) return {};
     const double along = std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_;
-    if (!(along / sizesPerThickness_ < cap_)) return {};  // the cap holds there
+    if (!(along / sizesPerGap_ < cap_)) return {};  // the cap holds there
     // The triangles lie within their solids' deviations of the exact faces, so the width
     // between the faces is `along` give or take both: the exact projections (slow, and met
     // over every face where parts touch) decide only when that band straddles the tolerance.
@@ -323,7 +332,7 @@ class GapRays {
       width = distance(sources_[owner]->project(p).point, sources_[other]->project(hitPoint).point);
       if (!(width > contactTolerance_)) return {};
     }
-    return {width / sizesPerThickness_, width, other};
+    return {width / sizesPerGap_, width, other};
   }
 
  private:
@@ -333,13 +342,14 @@ class GapRays {
   std::vector<std::pair<size_t, size_t>> owners_;  // per triangle: sampler, triangle there
   std::vector<double> deviations_;                 // per sampler: triangles to exact faces, at most
   std::unique_ptr<TriangleTree> tree_;
-  double offset_, contactTolerance_, sizesPerThickness_, cap_;
+  double offset_, contactTolerance_, sizesPerGap_, cap_;
 };
 
 }  // namespace
 
-GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset& fineness, double sharpAngleDeg,
-                            double cap, double contactTolerance, double vertexLimit, const RunControl& control) {
+GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset* fineness, double sizesPerGap,
+                            double sharpAngleDeg, double cap, double contactTolerance, double vertexLimit,
+                            const RunControl& control) {
   GeometrySizes sizes;
   std::vector<FaceSampler> samplers;
   std::vector<const Source*> sources;  // per sampler
@@ -355,7 +365,7 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
       sources.push_back(oracle.entries()[e].source.get());
       entries.push_back(static_cast<int>(e));
     }
-    const GapRays gaps(samplers, sources, oracle.diagonal(), fineness.sizes_per_thickness, cap, contactTolerance);
+    const GapRays gaps(samplers, sources, oracle.diagonal(), sizesPerGap, cap, contactTolerance);
     std::map<std::pair<int, int>, PartGap> narrowest;  // per pair of entries
     for (size_t s = 0; s < samplers.size(); ++s) {
       current = &samplers[s].solid();
@@ -387,8 +397,9 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
       current = &sampler.solid();
       const OpenCascadeWork working(current->name());
       sampler.addSamples(
-          sizes.samples, [&](const FaceTriangle& t, const Point3& p) { return gaps.at(s, t, p).size; }, control);
-      if (sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
+          sizes.samples, sizes.gap_samples, [&](const FaceTriangle& t, const Point3& p) { return gaps.at(s, t, p).size; },
+          control);
+      if (fineness && sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
     }
   } catch (const Standard_Failure& failure) {
     throw Error("OpenCASCADE failed while measuring the curvature of input '" + current->name() + "' (" +

@@ -20,7 +20,8 @@ struct PartGap {
 };
 
 struct GeometrySizes {
-  std::vector<SizeSample> samples;
+  std::vector<SizeSample> samples;      // curvature, thickness, short edges (with a fineness)
+  std::vector<SizeSample> gap_samples;  // gaps between entries (always)
   // The vertices the sizes asked for would make on the B-rep faces (faces a higher input hides
   // count too: an estimate for orders of magnitude), the entry contributing most, and the
   // smallest size asked on that entry.
@@ -32,12 +33,14 @@ struct GeometrySizes {
   std::vector<PartGap> gaps;
 };
 
-// The sizes every B-rep entry's faces and edges ask for, from their tessellation: curvature,
-// wall thickness, gaps to other entries wider than `contactTolerance` (narrower ones touch)
-// and (sharpAngleDeg > 0) short sharp edges, at most `cap`. Triangle surfaces and images add
-// none yet. When the surface estimate passes `vertexLimit`, no samples are made (the caller
-// refuses the job).
-GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset& fineness, double sharpAngleDeg,
-                            double cap, double contactTolerance, double vertexLimit, const RunControl& control);
+// The sizes every B-rep entry's faces and edges ask for, from their tessellation, at most
+// `cap`: with a fineness, curvature, wall thickness and (sharpAngleDeg > 0) short sharp edges;
+// with or without one, gaps to other entries wider than `contactTolerance` (narrower ones
+// touch), w / sizesPerGap for a gap of width w. Triangle surfaces and images add none yet.
+// When the surface estimate passes `vertexLimit`, no samples are made (the caller refuses the
+// job).
+GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset* fineness, double sizesPerGap,
+                            double sharpAngleDeg, double cap, double contactTolerance, double vertexLimit,
+                            const RunControl& control);
 
 }  // namespace oraclemesh
