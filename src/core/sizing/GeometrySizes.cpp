@@ -16,6 +16,7 @@
 #include <TopLoc_Location.hxx>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -82,6 +83,16 @@ std::vector<FaceTriangle> faceTriangles(const BrepTopology& solid) {
 }
 
 Point3 centroid(const FaceTriangle& t) { return (1.0 / 3) * (t.corners[0] + t.corners[1] + t.corners[2]); }
+
+// The weights of corners 0 and 1 of the point of t's plane nearest p (corner 2 has the rest).
+std::array<double, 2> barycentric(const FaceTriangle& t, const Point3& p) {
+  const Point3 e1 = t.corners[1] - t.corners[0], e2 = t.corners[2] - t.corners[0], d = p - t.corners[0];
+  const double a = dot(e1, e1), b = dot(e1, e2), c = dot(e2, e2), f = dot(d, e1), g = dot(d, e2);
+  const double det = a * c - b * b;
+  if (!(det > 0)) return {1.0 / 3, 1.0 / 3};
+  const double w1 = (c * f - b * g) / det, w2 = (a * g - b * f) / det;
+  return {1 - w1 - w2, w1};
+}
 
 // The ball radius of triangles with N of their edges around a full circle of radius 1.
 double sizePerRadius(int segmentsPerCircle) { return 2 * std::sin(kPi / segmentsPerCircle) / std::sqrt(3.0); }
@@ -275,6 +286,14 @@ class FaceSampler {
 // triangles, and between the exact surfaces (projections on both inputs) where the
 // triangles' deviation from them could decide which side of the tolerance it falls.
 class GapRays {
+  // Where two parts touch along a line (a wedge between a face and a chamfer, a cylinder on a
+  // plane) the gap narrows to nothing and w / sizesPerGap with it: sizes stop at this fraction
+  // of the largest cell size, so the part of such a wedge narrower than about that is bonded
+  // (a contact line in a mesh always is, over an element or so) instead of being refined
+  // without bound. A gap of presse_asm.step's narrowest, 0.075 mm under cells of 48 mm, is
+  // above it.
+  static constexpr double kGapSizePerCap = 1e-3;
+
  public:
   struct Gap {
     double size = std::numeric_limits<double>::infinity();  // infinity: no gap
@@ -319,6 +338,7 @@ class GapRays {
     const auto [other, j] = owners_[static_cast<size_t>(hit->second - triangles_.cbegin())];
     const FaceTriangle& facing = samplers_[other].triangles()[j];
     if (other == owner || dot(facing.normal, t.normal) > -0.2) return {};
+    if (!facesParallel(owner, t, p, other, facing, Point3{q->x(), q->y(), q->z()})) return {};
     const double along = std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_;
     if (!(along / sizesPerGap_ < cap_)) return {};  // the cap holds there
     // The triangles lie within their solids' deviations of the exact faces, so the width
@@ -328,16 +348,58 @@ class GapRays {
     if (along + band <= contactTolerance_) return {};
     double width = along;
     if (!(along - band > contactTolerance_)) {
+      // From each end of the ray, its solid's nearest boundary point to the other solid's
+      // nearest: the smaller is the width. One end alone can land on another face of its solid
+      // next to an edge (a sample on the bottom circle of a pin filling a hole lies a sagitta
+      // inside the circle, on the pin's bottom face: a width of that sagitta).
       const Point3 hitPoint{q->x(), q->y(), q->z()};
-      width = distance(sources_[owner]->project(p).point, sources_[other]->project(hitPoint).point);
+      const Point3 onOwner = sources_[owner]->project(p).point;
+      width = distance(onOwner, sources_[other]->project(onOwner).point);
+      if (!(width > contactTolerance_)) return {};
+      const Point3 onOther = sources_[other]->project(hitPoint).point;
+      width = std::min(width, distance(onOther, sources_[owner]->project(onOther).point));
       if (!(width > contactTolerance_)) return {};
     }
-    return {width / sizesPerGap_, width, other};
+    return {std::max(width / sizesPerGap_, kGapSizePerCap * cap_), width, other};
   }
 
  private:
+  // Faces meeting at an angle (a chamfer's circle resting on a flat face) leave a wedge, not a
+  // gap: narrowing to nothing where they meet, it would ask for sizes without bound, and Rule
+  // Set T treats it as the small input angle it is. Faces facing each other within this angle
+  // (their exact normals; a tessellation's can be off by half its 0.5 rad angular deflection)
+  // are a gap: a clearance fit, a plate above another.
+  static constexpr double kParallelWithinDeg = 15;
+
+  // Whether the exact faces at p (on owner's triangle t) and at q (on other's triangle
+  // facing) face each other within kParallelWithinDeg; true where a normal is unknown.
+  bool facesParallel(size_t owner, const FaceTriangle& t, const Point3& p, size_t other, const FaceTriangle& facing,
+                     const Point3& q) const {
+    Point3 n[2];
+    if (!exactNormal(owner, t, p, n[0]) || !exactNormal(other, facing, q, n[1])) return true;
+    return dot(n[0], n[1]) < -std::cos(kParallelWithinDeg * kPi / 180);
+  }
+
+  // The exact face's unit normal at the point of triangle t nearest p, on t's side.
+  bool exactNormal(size_t sampler, const FaceTriangle& t, const Point3& p, Point3& normal) const {
+    if (!t.hasUv) return false;
+    auto& surface = surfaces_[{sampler, t.face}];
+    if (!surface) surface = std::make_unique<BRepAdaptor_Surface>(samplers_[sampler].solid().face(t.face), false);
+    const std::array<double, 2> w = barycentric(t, p);
+    const double u = w[0] * t.uv[0].X() + w[1] * t.uv[1].X() + (1 - w[0] - w[1]) * t.uv[2].X();
+    const double v = w[0] * t.uv[0].Y() + w[1] * t.uv[1].Y() + (1 - w[0] - w[1]) * t.uv[2].Y();
+    BRepLProp_SLProps props(*surface, u, v, 1, 1e-9);
+    if (!props.IsNormalDefined()) return false;
+    const gp_Dir d = props.Normal();
+    normal = {d.X(), d.Y(), d.Z()};
+    if (dot(normal, t.normal) < 0) normal = -1.0 * normal;
+    return true;
+  }
+
   const std::vector<FaceSampler>& samplers_;
   const std::vector<const Source*>& sources_;
+  // Per sampler and face, built when first needed.
+  mutable std::map<std::pair<size_t, int>, std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
   Triangles triangles_;
   std::vector<std::pair<size_t, size_t>> owners_;  // per triangle: sampler, triangle there
   std::vector<double> deviations_;                 // per sampler: triangles to exact faces, at most
