@@ -41,6 +41,10 @@ struct CriteriaTable {
   // Sizes from the geometry (curvature, short edges, wall thickness); null when the job
   // leaves sizing to the constants alone.
   std::shared_ptr<const SizeField> field;
+  // The same field from its gap samples alone (null where no gap asks for sizes): where parts
+  // must stay apart. The thesis engine's terminator follows it and not the whole field, which
+  // goes to zero in every wedge (a wedge's thickness does at its edge).
+  std::shared_ptr<const SizeField> gap_field;
 
   const MaterialCriteria& of(int material) const {
     auto it = per_material.find(material);
@@ -66,11 +70,13 @@ struct CriteriaTable {
   // unless some material was given its edge size.
   double edgeSizeAt(const Point3& p) const {
     const double strict = strictest(&MaterialCriteria::edge_size);
-    if (!field) return strict;
-    if (!defaults.from_field.edge_size) return strict;
+    return fieldLowersEdges() ? std::min(strict, kEdgeSizePerSize * field->at(p)) : strict;
+  }
+  bool fieldLowersEdges() const {
+    if (!field || !defaults.from_field.edge_size) return false;
     for (const auto& [material, c] : per_material)
-      if (!c.from_field.edge_size) return strict;
-    return std::min(strict, kEdgeSizePerSize * field->at(p));
+      if (!c.from_field.edge_size) return false;
+    return true;
   }
 
   // The strictest value of one criterion over all materials, for settings that take one value

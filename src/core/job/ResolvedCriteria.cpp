@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "Error.h"
 #include "sizing/GeometrySizes.h"
@@ -152,8 +153,15 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
                      oracle.entries()[sizes.largest_entry].source->name() + "' " + where + ")" + tooMany +
                      ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
   }
-  table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap,
-                                                  kSmallestSizeOfDiagonal * oracle.diagonal(), kSampleThinning);
+  const double floor = kSmallestSizeOfDiagonal * oracle.diagonal();
+  std::vector<SizeSample> gapSamples;
+  for (const SizeSample& s : sizes.samples)
+    if (s.reason == SizeReason::Gap) gapSamples.push_back(s);
+  if (!gapSamples.empty())
+    table.gap_field = std::make_shared<const SizeField>(std::move(gapSamples), fineness->grading, cap, floor,
+                                                        kSampleThinning);
+  table.field = std::make_shared<const SizeField>(std::move(sizes.samples), fineness->grading, cap, floor,
+                                                  kSampleThinning);
   return std::move(sizes.gaps);
 }
 

@@ -20,6 +20,12 @@
 
 namespace oraclemesh {
 namespace refine {
+namespace {
+
+// The smallest size asked for at a point / the terminator length there.
+constexpr double kSizePerTerminator = 32;
+
+}  // namespace
 
 RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const FeatureGraph& features,
                                  const RuleSetTOptions& options, const RunControl& control, RuleSetTStatistics& stats)
@@ -34,7 +40,39 @@ RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const Feature
   consider(options.criteria.defaults);
   for (const auto& [m, c] : options.criteria.per_material) consider(c);
   if (!std::isfinite(smallest)) smallest = diag / 15;
-  terminatorLength_ = smallest / 32;
+  capsTerminator_ = smallest / kSizePerTerminator;
+  // The sizing field lowers the cell and facet sizes a material leaves unset to its size at p,
+  // and the feature edges' size to kEdgeSizePerSize times it (CriteriaTable::*SizeAt); the
+  // terminator follows its gap samples (CriteriaTable::gap_field).
+  const CriteriaTable& table = options.criteria;
+  if (!table.gap_field) return;
+  double perFieldSize = std::numeric_limits<double>::infinity();
+  auto lowered = [&](const MaterialCriteria& c) {
+    if (c.from_field.cell_size || c.from_field.facet_size) perFieldSize = std::min(perFieldSize, 1.0);
+  };
+  lowered(table.defaults);
+  for (const auto& [m, c] : table.per_material) lowered(c);
+  if (table.fieldLowersEdges()) perFieldSize = std::min(perFieldSize, kEdgeSizePerSize);
+  if (std::isfinite(perFieldSize)) terminatorPerFieldSize_ = perFieldSize / kSizePerTerminator;
+}
+
+double RuleSetTRefiner::terminatorAt(const Point3& p) const {
+  if (!(terminatorPerFieldSize_ > 0)) return capsTerminator_;
+  return std::min(capsTerminator_, terminatorPerFieldSize_ * options_.criteria.gap_field->at(p));
+}
+
+bool RuleSetTRefiner::belowTerminator(const Zone& zone) const {
+  return zone.insertionRadius < terminatorAt(toPoint3(zone.point));
+}
+
+// Next to a small input angle the caps' length holds, as the terminators there need: gap
+// sizes fall to a third of the contact tolerance where touching parts close a wedge (a small
+// angle of kind contact), and a wedge's own field falls to zero (T1.3 split screw.step's
+// 45-degree edges on without end when the terminator followed the whole field).
+bool RuleSetTRefiner::belowTerminator(const Subsegment& s) const {
+  const double half = length(s) / 2;
+  if (half >= capsTerminator_) return false;
+  return nearSmallAngle(s) || half < terminatorAt(toPoint3(CGAL::midpoint(s.a->point(), s.b->point())));
 }
 
 TetMesh RuleSetTRefiner::run() {
