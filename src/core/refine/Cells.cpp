@@ -155,7 +155,7 @@ bool RuleSetTRefiner::refineOneCell() {
               -1);
         return true;
       }
-      if (length(segments_[s]) / 2 < terminatorLength_) {
+      if (belowTerminator(segments_[s])) {
         leave("cell", std::string(rule) + " would split a subsegment below the terminator length", e.stamp, -1);
         return true;
       }
@@ -183,7 +183,7 @@ bool RuleSetTRefiner::refineOneCell() {
         leave("cell", "the subsegment its surface ball centre encroaches cannot be split", e.stamp, -1);
         continue;
       }
-      if (!surface.duplicate && surface.insertionRadius >= terminatorLength_) {  // T3.3
+      if (!surface.duplicate && !belowTerminator(surface)) {  // T3.3
         commit(surface, 2, -1, ballEntry);
         ++stats_.insertions["T3.3"];
         return requeue(cellQueue_, e);
@@ -192,7 +192,7 @@ bool RuleSetTRefiner::refineOneCell() {
             -1);
       continue;
     }
-    if (zone.insertionRadius < terminatorLength_) {
+    if (belowTerminator(zone)) {
       leave("cell", "its circumcentre is closer than the terminator length to a vertex", e.stamp, -1);
       continue;
     }

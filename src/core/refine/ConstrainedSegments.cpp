@@ -135,7 +135,7 @@ RuleSetTRefiner::SegmentSplit RuleSetTRefiner::badSegmentSplit(int index, bool a
   if (assumeEncroached || encroached(s)) return {"T1.2", splitPointOnCurve(s, 0.5 * (a + b))};
   // The terminator bounds T1.3 as it bounds T1.2: where curves meet at 0 degrees (the nut of
   // presse_asm.step) pieces far below it are still lost, and would only add elements left.
-  if (len / 2 >= terminatorLength_ && outsideEveryMaterial(s)) return {"T1.3", splitPointOnCurve(s, 0.5 * (a + b))};
+  if (!belowTerminator(s) && outsideEveryMaterial(s)) return {"T1.3", splitPointOnCurve(s, 0.5 * (a + b))};
   return {};
 }
 
@@ -239,7 +239,7 @@ bool RuleSetTRefiner::refineOneSegment() {
 // is all the constraint needs, is left encroached; one that lost its edge is still split.
 bool RuleSetTRefiner::encroachmentTerminatorRefuses(int index) {
   const Subsegment& s = segments_[index];
-  if (!nearSmallAngle(s) || length(s) / 2 >= terminatorLength_) return false;
+  if (!nearSmallAngle(s) || !belowTerminator(s)) return false;
   CH c;
   int i, j;
   if (!dt_.is_edge(s.a, s.b, c, i, j)) return false;

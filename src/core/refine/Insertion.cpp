@@ -69,7 +69,7 @@ VH RuleSetTRefiner::commit(const Zone& zone, int dimension, int curve, int bound
 }
 
 bool RuleSetTRefiner::isFree(const Zone& zone) const {
-  return !(zone.duplicate || zone.encroached >= 0 || zone.insertionRadius < terminatorLength_);
+  return !(zone.duplicate || zone.encroached >= 0 || belowTerminator(zone));
 }
 
 VH RuleSetTRefiner::insertIfFree(const Point3& p, CH hint, int dimension, int curve, int boundaryEntry) {

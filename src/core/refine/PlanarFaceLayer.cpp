@@ -136,7 +136,6 @@ bool PlanarFaceLayer::triangleGone(const QueuedTriangle& t) const {
 }
 
 bool PlanarFaceLayer::refineOne() {
-  const double terminatorLength = core_.terminatorLength();
   RuleSetTStatistics& stats = core_.statistics();
   while (!queue_.empty()) {
     const QueuedTriangle t = queue_.back();
@@ -144,7 +143,7 @@ bool PlanarFaceLayer::refineOne() {
     if (t.flatCell != CH() ? t.flatCell->info().stamp != t.flatStamp : isFacet(t.corners)) continue;
     if (triangleGone(t)) continue;
     auto leaveTriangle = [&](const std::string& why) { left_[cornerKey(t.corners)] = why; };
-    if (t.radius < terminatorLength) {
+    if (t.radius < core_.terminatorAt(t.circumcentre)) {
       leaveTriangle("its circumradius is below the terminator length");
       continue;
     }
@@ -154,7 +153,7 @@ bool PlanarFaceLayer::refineOne() {
       continue;
     }
     if (zone.encroached >= 0) {  // TP.1
-      if (core_.length(core_.segments()[zone.encroached]) / 2 < terminatorLength) {
+      if (core_.belowTerminator(core_.segments()[zone.encroached])) {
         leaveTriangle("its circumcentre encroaches a subsegment shorter than the terminator length");
         continue;
       }

@@ -116,7 +116,7 @@ bool RuleSetTRefiner::refineOneFacet() {
     if (zone.encroached >= 0) {
       if (facetAngleTerminatorRefuses(e, zone.encroached)) continue;
       // T2.1: the ball centre encroaches a subsegment: split the subsegment instead.
-      if (length(segments_[zone.encroached]) / 2 < terminatorLength_) {
+      if (belowTerminator(segments_[zone.encroached])) {
         leave("facet", "its ball centre encroaches a subsegment shorter than the terminator length", e.stamp, e.facet);
         continue;
       }
@@ -124,7 +124,7 @@ bool RuleSetTRefiner::refineOneFacet() {
       leave("facet", "the subsegment its ball centre encroaches cannot be split", e.stamp, e.facet);
       continue;
     }
-    if (zone.insertionRadius < terminatorLength_) {
+    if (belowTerminator(zone)) {
       leave("facet", "its ball centre is closer than the terminator length to a vertex", e.stamp, e.facet);
       continue;
     }

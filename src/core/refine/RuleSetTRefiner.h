@@ -166,8 +166,14 @@ class RuleSetTRefiner {
   RuleSetTStatistics& statistics() { return stats_; }
   const Delaunay& triangulation() const { return dt_; }
   const std::vector<Subsegment>& segments() const { return segments_; }
-  // Below this no point goes in (terminator): 1/32 of the finest size asked for.
-  double terminatorLength() const { return terminatorLength_; }
+  // Terminator: no point goes in closer than the terminator length at it to a vertex, and no
+  // subsegment is split below twice the length at its midpoint. The length at p is 1/32 of the
+  // smallest size the caps and the sizing field's gaps ask for there: small only between
+  // parts close together, which it keeps apart (one length for the whole mesh from the field's
+  // smallest size let Rule Set T cascade next to every small input angle).
+  double terminatorAt(const Point3& p) const;
+  bool belowTerminator(const Zone& zone) const;     // zone.point closer than it to a vertex
+  bool belowTerminator(const Subsegment& s) const;  // half of s shorter than it at s's midpoint
   double length(const Subsegment& s) const;
 
   // Insertion core (Insertion.cpp). examine looks at p's conflict zone (`splitting`: the
@@ -286,7 +292,8 @@ class RuleSetTRefiner {
   void intoCircumsphereMoves(CH c, double scale, std::vector<VertexMove>& moves) const;
   bool starStaysDelaunay(VH v, const std::vector<CH>& star, const CgalPoint& p) const;
   Point3 surfaceNormalAt(VH v, const std::vector<CH>& star) const;
-  bool cellsChangedByMove(VH v, const Point3& target, std::vector<CH>& cells, std::vector<int>& segments) const;
+  bool cellsChangedByMove(VH v, const Point3& target, bool undo, std::vector<CH>& cells,
+                          std::vector<int>& segments) const;
   std::array<int64_t, 4> cornerIds(CH c) const;
   std::vector<CH> relocate(VH v, const Point3& target, const std::vector<CH>& changed,
                            const std::map<std::array<int64_t, 4>, SavedCell>* before = nullptr);
@@ -327,7 +334,8 @@ class RuleSetTRefiner {
   int64_t nextVertexId_ = 0;
   uint64_t stampCounter_ = 0;
   double reach_ = 0;
-  double terminatorLength_ = 0;
+  double capsTerminator_ = 0;          // 1/32 of the smallest size the caps give
+  double terminatorPerGapSize_ = 0;    // the gap sizes at p times this lower it; 0: no gap sizes
 
   std::vector<Subsegment> segments_;
   std::vector<Subsegment> pendingSegments_;

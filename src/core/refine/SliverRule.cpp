@@ -81,7 +81,7 @@ bool RuleSetTRefiner::sliverRefusesSplit(int s, uint64_t stamp, const char* rule
     leave("cell", std::string(rule) + " would split a subsegment next to an input angle under 60 degrees", stamp, -1);
     return true;
   }
-  if (length(segments_[s]) / 2 < terminatorLength_) {
+  if (belowTerminator(segments_[s])) {
     leave("cell", std::string(rule) + " would split a subsegment below the terminator length", stamp, -1);
     return true;
   }
@@ -136,7 +136,7 @@ bool RuleSetTRefiner::refineSliver(CH c, std::mt19937& random) {
     if (!surface.duplicate && surface.encroached >= 0) {
       if (sliverRefusesSplit(surface.encroached, stamp, "sliver.ball_segment")) return false;
       if (splitEncroached(surface.encroached, "sliver.ball_segment")) return true;
-    } else if (!surface.duplicate && surface.insertionRadius >= terminatorLength_ &&
+    } else if (!surface.duplicate && !belowTerminator(surface) &&
                newStarMinDihedral(surface) > minDihedralDeg(c)) {
       // Only a ball centre whose new cells are better and meet T3's criteria: unlike T3.3,
       // this step is not needed for the guarantees, and under a strict radius-edge bound (1.1

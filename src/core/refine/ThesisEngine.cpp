@@ -20,6 +20,12 @@
 
 namespace oraclemesh {
 namespace refine {
+namespace {
+
+// The smallest size asked for at a point / the terminator length there.
+constexpr double kSizePerTerminator = 32;
+
+}  // namespace
 
 RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const FeatureGraph& features,
                                  const RuleSetTOptions& options, const RunControl& control, RuleSetTStatistics& stats)
@@ -34,7 +40,29 @@ RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const Feature
   consider(options.criteria.defaults);
   for (const auto& [m, c] : options.criteria.per_material) consider(c);
   if (!std::isfinite(smallest)) smallest = diag / 15;
-  terminatorLength_ = smallest / 32;
+  capsTerminator_ = smallest / kSizePerTerminator;
+  // The gap sizes lower every facet size and the feature edges' size (kEdgeSizePerSize times
+  // them, CriteriaTable::*SizeAt): the terminator follows the smaller.
+  if (options.criteria.gap_field) terminatorPerGapSize_ = std::min(1.0, kEdgeSizePerSize) / kSizePerTerminator;
+}
+
+double RuleSetTRefiner::terminatorAt(const Point3& p) const {
+  if (!(terminatorPerGapSize_ > 0)) return capsTerminator_;
+  return std::min(capsTerminator_, terminatorPerGapSize_ * options_.criteria.gap_field->at(p));
+}
+
+bool RuleSetTRefiner::belowTerminator(const Zone& zone) const {
+  return zone.insertionRadius < terminatorAt(toPoint3(zone.point));
+}
+
+// Next to a small input angle the caps' length holds, as the terminators there need: gap
+// sizes fall to their floor where touching parts close a tangent contact (a small angle of
+// kind contact), and a wedge's own thickness falls to zero (T1.3 split screw.step's 45-degree
+// edges on without end when the terminator followed the whole field).
+bool RuleSetTRefiner::belowTerminator(const Subsegment& s) const {
+  const double half = length(s) / 2;
+  if (half >= capsTerminator_) return false;
+  return nearSmallAngle(s) || half < terminatorAt(toPoint3(CGAL::midpoint(s.a->point(), s.b->point())));
 }
 
 TetMesh RuleSetTRefiner::run() {

@@ -112,11 +112,11 @@ std::vector<RuleSetTRefiner::VertexMove> RuleSetTRefiner::screenedMoves(CH c, st
       do tilt = {unit(random), unit(random), unit(random)};
       while (dot(tilt, tilt) > 1);
       const double step = kPerturbMaxStep * scale * (j + 1) / candidates;
-      if (step < terminatorLength_) continue;  // refused by the move (cellsChangedByMove)
       Point3 direction = onSurface ? 0.3 * away + tilt : away + 0.7 * tilt;
       if (onSurface) direction = direction - dot(direction, normal) * normal;
       if (!(norm(direction) > 0)) continue;
       const Point3 target = p + (step / norm(direction)) * direction;
+      if (step < terminatorAt(target)) continue;  // refused by the move (cellsChangedByMove)
       const double floor = std::max(before, best);
       const double score = starMinWithVertexAt(v, star, toCgal(target), floor);
       if (score <= floor) continue;
@@ -158,10 +158,12 @@ void RuleSetTRefiner::intoCircumsphereMoves(CH c, double scale, std::vector<Vert
     const Point3 p = toPoint3(w->point());
     const double out = distance(p, centre);
     const double step = out - kIntoCircumsphere * radius;
-    if (!(out > 0) || step > kPerturbMaxStep * scale || step < terminatorLength_) continue;
+    if (!(out > 0) || step > kPerturbMaxStep * scale) continue;
+    const Point3 target = p + (step / out) * (centre - p);
+    if (step < terminatorAt(target)) continue;  // refused by the move (cellsChangedByMove)
     std::vector<CH> star;
     dt_.incident_cells(w, std::back_inserter(star));
-    moves.push_back({w, p + (step / out) * (centre - p), starMinWithVertexAt(w, star, w->point(), -1), 0});
+    moves.push_back({w, target, starMinWithVertexAt(w, star, w->point(), -1), 0});
   }
 }
 
@@ -218,11 +220,14 @@ Point3 RuleSetTRefiner::surfaceNormalAt(VH v, const std::vector<CH>& star) const
 }
 
 // The cells moving v to target deletes (v's cells and the target's conflict zone) and the
-// alive subsegments among their edges; false when target is a vertex already or closer
-// than the terminator length to one.
-bool RuleSetTRefiner::cellsChangedByMove(VH v, const Point3& target, std::vector<CH>& cells, std::vector<int>& segments) const {
+// alive subsegments among their edges; false when target is a vertex already or, unless the
+// move is an undo, closer than the terminator length there to one. An undo puts v back where
+// it was: the terminator at its origin may be longer than the step the move took to a point
+// where the sizing field is smaller, and v was there before.
+bool RuleSetTRefiner::cellsChangedByMove(VH v, const Point3& target, bool undo, std::vector<CH>& cells,
+                                         std::vector<int>& segments) const {
   Zone zone = examine(target, v->cell());
-  if (zone.duplicate || zone.insertionRadius < terminatorLength_) return false;
+  if (zone.duplicate || (!undo && belowTerminator(zone))) return false;
   cells = std::move(zone.cells);
   std::vector<CH> star;
   dt_.incident_cells(v, std::back_inserter(star));
@@ -317,7 +322,7 @@ bool RuleSetTRefiner::tryVertexMove(VH v, const Point3& target, std::vector<CH>&
   const Point3 origin = toPoint3(v->point());
   std::vector<CH> changed;
   std::vector<int> segments;
-  if (!cellsChangedByMove(v, target, changed, segments)) return false;
+  if (!cellsChangedByMove(v, target, false, changed, segments)) return false;
   const double before = smallestLabelledAngle(changed);
   std::map<std::array<int64_t, 4>, SavedCell> saved;
   for (CH c : changed)
@@ -328,7 +333,7 @@ bool RuleSetTRefiner::tryVertexMove(VH v, const Point3& target, std::vector<CH>&
     return true;
   }
   std::vector<int> unused;
-  if (!cellsChangedByMove(v, origin, changed, unused))
+  if (!cellsChangedByMove(v, origin, true, changed, unused))
     throw Error("internal error: the thesis engine could not undo a vertex move");
   const std::vector<CH> restored = relocate(v, origin, changed, &saved);
   made.insert(made.end(), restored.begin(), restored.end());
@@ -358,7 +363,7 @@ bool RuleSetTRefiner::perturbSliver(CH c, std::mt19937& random, int effort, std:
     }
     // A step under the terminator length is refused by the move (see cellsChangedByMove):
     // no try is spent on it.
-    if (distance(target, toPoint3(m.vertex->point())) < terminatorLength_) continue;
+    if (distance(target, toPoint3(m.vertex->point())) < terminatorAt(target)) continue;
     ++tries;
     if (tryVertexMove(m.vertex, target, made)) {
       // An undone move leaves v where it was, with the entry it had.
