@@ -75,7 +75,9 @@ TEST(SizeField, GrowsNoFasterThanItsGrading) {
 
 std::vector<SizeSample> samplesOf(const TopoDS_Shape& shape, double sharpAngle = 30) {
   const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(shape, "solid"), Role::Material, 1}});
-  return geometrySizes(oracle, *findFineness("moderate"), sharpAngle, 1e9, 1e-6 * oracle.diagonal(), 1e18, RunControl())
+  const FinenessPreset* moderate = findFineness("moderate");
+  return geometrySizes(oracle, moderate, moderate->sizes_per_thickness, sharpAngle, 1e9, 1e-6 * oracle.diagonal(),
+                       1e18, RunControl())
       .samples;
 }
 

@@ -20,9 +20,9 @@ constexpr double kSmallestSizeOfDiagonal = 1e-6;
 // thickness sample each: those the others give within 10 % are dropped (the field is then at
 // most 10 % above the one of all samples, sizing/SampleThinning.h).
 constexpr double kSampleThinning = 0.1;
-// Gap sizes where the job gives its sizes (criteria.fineness "off"): a surface size the gap's
-// width keeps the faces on both sides apart (half a size did on cubes 0.05 - 0.5 mm apart
-// under cells of 1.4 mm), graded as at "coarse".
+// Gap sizes where the job gives its sizes (criteria.fineness "off"): a surface size of the
+// gap's width keeps the faces on both sides apart with a margin (SizeFieldGaps' cubes stayed
+// apart at twice it), graded as at "coarse".
 constexpr double kSizesPerGapAtGivenSizes = 1;
 constexpr double kGapGradingAtGivenSizes = 0.5;
 

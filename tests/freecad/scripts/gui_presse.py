@@ -3,7 +3,8 @@
   macro     examples/OracleMesh_Presse.FCMacro: the presse as a FEM analysis, meshed and
             solved by CalculiX (FreeCAD's ccxtools, as the solver's task panel runs it)
   import    what a user does: FreeCAD's own STEP import (ImportGui.insert, one compound of 16
-            solids), select it, "Mesh selection with OracleMesh" at the defaults, Mesh; the
+            solids), select it, "Mesh selection with OracleMesh" at the defaults but for
+            ContactTolerance 0.6 mm in the property editor (the macro's), Mesh; the
             hand-off's facts (tet10 in FreeCAD's orientation, a mid node on every feature
             edge, the core's final check)
   interfaces  each Face group Interface_<a>_<b> of that mesh (curved tri6 area) against
@@ -24,6 +25,7 @@ import traceback
 
 STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"),
                     "presse_asm.step")
+CONTACT_TOLERANCE = float(os.environ.get("PRESSE_CONTACT_TOLERANCE", "0.6"))  # mm, the macro's
 
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -168,6 +170,8 @@ def check(out):
     out["table_labels"] = [panel.inputs.item(i, 0).text() for i in range(panel.inputs.rowCount())]
     if order:
         panel.element_order.setCurrentIndex(panel.element_order.findData(int(order)))
+    # The property editor's ContactTolerance, as the macro sets it (see there why).
+    mesh.ContactTolerance = CONTACT_TOLERANCE
     t0 = time.time()
     out["mesh_ok"] = panel.mesh()
     out["mesh_seconds"] = time.time() - t0
@@ -188,6 +192,7 @@ def check(out):
     out["quality"] = report["quality"]
 
     out["contact_tolerance"] = report["contact_tolerance"]
+    out["job_cad_uncertainty"] = build_job(mesh)[0].get("cad_uncertainty")
     step("interfaces against OpenCASCADE")
     out["interface_areas"] = interface_areas(mesh, report, build_job(mesh)[0])
 
