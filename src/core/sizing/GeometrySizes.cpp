@@ -338,7 +338,6 @@ class GapRays {
     const auto [other, j] = owners_[static_cast<size_t>(hit->second - triangles_.cbegin())];
     const FaceTriangle& facing = samplers_[other].triangles()[j];
     if (other == owner || dot(facing.normal, t.normal) > -0.2) return {};
-    if (!facesParallel(owner, t, p, other, facing, Point3{q->x(), q->y(), q->z()})) return {};
     const double along = std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_;
     if (!(along / sizesPerGap_ < cap_)) return {};  // the cap holds there
     // The triangles lie within their solids' deviations of the exact faces, so the width
@@ -346,13 +345,14 @@ class GapRays {
     // over every face where parts touch) decide only when that band straddles the tolerance.
     const double band = deviations_[owner] + deviations_[other];
     if (along + band <= contactTolerance_) return {};
+    const Point3 hitPoint{q->x(), q->y(), q->z()};
+    if (!facesParallel(owner, t, p, other, facing, hitPoint)) return {};
     double width = along;
     if (!(along - band > contactTolerance_)) {
       // From each end of the ray, its solid's nearest boundary point to the other solid's
       // nearest: the smaller is the width. One end alone can land on another face of its solid
       // next to an edge (a sample on the bottom circle of a pin filling a hole lies a sagitta
       // inside the circle, on the pin's bottom face: a width of that sagitta).
-      const Point3 hitPoint{q->x(), q->y(), q->z()};
       const Point3 onOwner = sources_[owner]->project(p).point;
       width = distance(onOwner, sources_[other]->project(onOwner).point);
       if (!(width > contactTolerance_)) return {};
