@@ -125,7 +125,7 @@ json criteriaReportJson(const JobReport& r) {
     gaps.push_back({{"between", {r.inputs[g.entry].name, r.inputs[g.other].name}}, {"width", g.width}, {"at", g.at}});
   crit["gap_sizes"] = r.criteria.gap_field ? sizeFieldJson(*r.criteria.gap_field) : json::object();
   crit["gap_sizes"]["gaps"] = gaps;
-  crit["gap_sizes"]["sizes_per_gap"] = sizesPerGap(preset);
+  crit["gap_sizes"]["sizes_per_gap"] = kSizesPerGap;
   if (r.engine_run.mesh3) {
     const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
     crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;

@@ -20,10 +20,7 @@ constexpr double kSmallestSizeOfDiagonal = 1e-6;
 // thickness sample each: those the others give within 10 % are dropped (the field is then at
 // most 10 % above the one of all samples, sizing/SampleThinning.h).
 constexpr double kSampleThinning = 0.1;
-// Gap sizes where the job gives its sizes (criteria.fineness "off"): a surface size of the
-// gap's width keeps the faces on both sides apart with a margin (SizeFieldGaps' cubes stayed
-// apart at twice it), graded as at "coarse".
-constexpr double kSizesPerGapAtGivenSizes = 1;
+// Gap sizes where the job gives its sizes (criteria.fineness "off") grade as at "coarse".
 constexpr double kGapGradingAtGivenSizes = 0.5;
 
 MaterialCriteria resolve(const CriteriaSpec& spec, const MaterialCriteria& fallback) {
@@ -120,10 +117,6 @@ const FinenessPreset* jobFineness(const JobSpec& job) {
   return job.fineness ? findFineness(*job.fineness) : nullptr;  // "off" is no preset
 }
 
-double sizesPerGap(const FinenessPreset* fineness) {
-  return fineness ? fineness->sizes_per_thickness : kSizesPerGapAtGivenSizes;
-}
-
 std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
                                      double contactTolerance, const RunControl& control) {
   const FinenessPreset* fineness = jobFineness(job);
@@ -132,9 +125,8 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
   const double sharpAngle = job.features ? job.sharp_angle_deg : 0;
   // Gaps in every material: the largest cell size any has.
   const double cap = table.strictest(&MaterialCriteria::cell_size, false);
-  const double perGap = sizesPerGap(fineness);
   const double grading = fineness ? fineness->grading : kGapGradingAtGivenSizes;
-  GeometrySizes sizes = geometrySizes(oracle, fineness, perGap, sharpAngle, cap, contactTolerance,
+  GeometrySizes sizes = geometrySizes(oracle, fineness, kSizesPerGap, sharpAngle, cap, contactTolerance,
                                       static_cast<double>(job.max_vertices), control);
   const std::string preset = "criteria.fineness " + std::string(fineness ? fineness->name : "off");
   if (!(sizes.surface_vertices <= static_cast<double>(job.max_vertices))) {
@@ -149,7 +141,7 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
     });
     if (sizes.smallest.reason == SizeReason::Gap && gap != sizes.gaps.end()) {
       std::snprintf(where, sizeof where, "%g wide at (%g, %g, %g) asks for size %g", gap->width, gap->at[0],
-                    gap->at[1], gap->at[2], gap->width / perGap);
+                    gap->at[1], gap->at[2], gap->width / kSizesPerGap);
       char bond[160];
       std::snprintf(bond, sizeof bond, "contact_tolerance above %g (now %g)", gap->width, contactTolerance);
       throw InputError("the gap between inputs '" + oracle.entries()[gap->entry].source->name() + "' and '" +

@@ -21,9 +21,11 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 // The fineness preset the job asks for (criteria.fineness); nullptr for "off" or none.
 const FinenessPreset* jobFineness(const JobSpec& job);
 
-// How many sizes a gap between two parts is wide at least: the preset's sizes per thickness,
-// or a fixed number where the job gives its sizes (fineness nullptr).
-double sizesPerGap(const FinenessPreset* fineness);
+// How many surface sizes a gap between two parts is wide, at every fineness: one keeps the
+// faces on both sides apart with a margin (SizeFieldGaps' cubes stayed apart at twice it). A
+// gap is not meshed, so more would only refine the faces that face it: the sizes per
+// thickness of a preset are for walls, which are.
+inline constexpr double kSizesPerGap = 1;
 
 // Puts the sizing field of the job's fineness (sizing/GeometrySizes.h) into `table` (nothing
 // when the job's fineness is off), and the sizes that keep gaps between B-rep inputs wider
