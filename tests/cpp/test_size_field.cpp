@@ -3,8 +3,11 @@
 // dimensions of hand-made solids.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <gp_Ax2.hxx>
 
 #include <algorithm>
@@ -114,6 +117,17 @@ TEST(GeometrySizes, ThinWallsAskForThreeSizesThroughTheirThickness) {
   // The 1 mm edges are sharp and short: at most half their length, so two edge segments.
   EXPECT_NEAR(smallest(samples, SizeReason::ShortEdge), 0.5, 1e-9);
   EXPECT_EQ(smallest(samples, SizeReason::Curvature), std::numeric_limits<double>::infinity());  // planes only
+}
+
+// A wedge is no wall: a prism 5 long whose section is a triangle with a 45 degree apex (a
+// thread's flanks, a chamfer). Rays from one flank reach the other ever nearer the apex, which
+// asked for sizes down to the field's floor; the flanks' normals are 135 degrees apart, not
+// facing, so only the end caps, 5 apart, are a wall.
+TEST(GeometrySizes, WedgesAreNoWalls) {
+  const double height = 20, halfBase = height * std::tan(M_PI / 8);
+  BRepBuilderAPI_MakePolygon section(gp_Pnt(-halfBase, 0, 0), gp_Pnt(halfBase, 0, 0), gp_Pnt(0, height, 0), true);
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(section.Wire()).Face(), gp_Vec(0, 0, 5)).Shape();
+  EXPECT_NEAR(smallest(samplesOf(prism), SizeReason::Thickness), 5.0 / 3, 1e-6);
 }
 
 // A cylinder's seam and the smooth edges are no mesh edges: only its two rims count as edges.

@@ -94,6 +94,32 @@ std::array<double, 2> barycentric(const FaceTriangle& t, const Point3& p) {
   return {1 - w1 - w2, w1};
 }
 
+// The exact face's unit normal at the point of triangle t nearest p, on t's side; false where
+// the triangle has no uv or the normal is not defined.
+bool exactNormal(const BRepAdaptor_Surface& surface, const FaceTriangle& t, const Point3& p, Point3& normal) {
+  if (!t.hasUv) return false;
+  const std::array<double, 2> w = barycentric(t, p);
+  const double u = w[0] * t.uv[0].X() + w[1] * t.uv[1].X() + (1 - w[0] - w[1]) * t.uv[2].X();
+  const double v = w[0] * t.uv[0].Y() + w[1] * t.uv[1].Y() + (1 - w[0] - w[1]) * t.uv[2].Y();
+  BRepLProp_SLProps props(surface, u, v, 1, 1e-9);
+  if (!props.IsNormalDefined()) return false;
+  const gp_Dir d = props.Normal();
+  normal = {d.X(), d.Y(), d.Z()};
+  if (dot(normal, t.normal) < 0) normal = -1.0 * normal;
+  return true;
+}
+
+// Faces across a wall or a gap face each other within this angle (their exact normals: a
+// tessellation's can be off by half its 0.5 rad angular deflection): a plate, a clearance
+// fit. Faces meeting at a larger angle leave a wedge (a chamfer, a thread's flanks), which
+// narrows to nothing where they meet and would ask for sizes without bound: Rule Set T treats
+// it as the small input angle it is.
+constexpr double kFacingWithinDeg = 15;
+
+// Whether unit normals a and b (outward, each on its own face) face each other within
+// kFacingWithinDeg.
+bool facing(const Point3& a, const Point3& b) { return dot(a, b) < -std::cos(kFacingWithinDeg * kPi / 180); }
+
 // The ball radius of triangles with N of their edges around a full circle of radius 1.
 double sizePerRadius(int segmentsPerCircle) { return 2 * std::sin(kPi / segmentsPerCircle) / std::sqrt(3.0); }
 
@@ -234,15 +260,11 @@ class FaceSampler {
   // Infinity on planes and where the curvature is not defined.
   double curvatureSize(const FaceTriangle& t, std::array<double, 2> w) {
     if (!t.hasUv) return std::numeric_limits<double>::infinity();
-    auto& surface = surfaces_[t.face];
-    if (!surface) {
-      surface = std::make_unique<BRepAdaptor_Surface>(solid_.face(t.face), false);
-      planar_[t.face] = surface->GetType() == GeomAbs_Plane;
-    }
+    const BRepAdaptor_Surface& surface = this->surface(t.face);
     if (planar_[t.face]) return std::numeric_limits<double>::infinity();
     const double u = w[0] * t.uv[0].X() + w[1] * t.uv[1].X() + (1 - w[0] - w[1]) * t.uv[2].X();
     const double v = w[0] * t.uv[0].Y() + w[1] * t.uv[1].Y() + (1 - w[0] - w[1]) * t.uv[2].Y();
-    BRepLProp_SLProps props(*surface, u, v, 2, 1e-9);
+    BRepLProp_SLProps props(surface, u, v, 2, 1e-9);
     if (!props.IsCurvatureDefined()) return std::numeric_limits<double>::infinity();
     const double k = std::max(std::abs(props.MaxCurvature()), std::abs(props.MinCurvature()));
     return k > 0 && std::isfinite(k) ? sizeOverRadius_ / k : std::numeric_limits<double>::infinity();
@@ -262,15 +284,35 @@ class FaceSampler {
     if (!q) return std::numeric_limits<double>::infinity();  // the ray runs within a triangle
     const size_t j = static_cast<size_t>(hit->second - cgalTriangles_.cbegin());
     if (j == index || dot(triangles_[j].normal, t.normal) > -0.2) return std::numeric_limits<double>::infinity();
+    if (!facesAcross(t, p, triangles_[j], Point3{q->x(), q->y(), q->z()})) return std::numeric_limits<double>::infinity();
     return (std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_) / sizesPerThickness_;
+  }
+
+  // Whether the faces at p (on t) and at q (on across) face each other as a wall's two sides
+  // do, not as a wedge's; true where an exact normal is unknown.
+  bool facesAcross(const FaceTriangle& t, const Point3& p, const FaceTriangle& across, const Point3& q) const {
+    if (facing(t.normal, across.normal) && dot(t.normal, across.normal) < -0.9999) return true;  // both flat there
+    Point3 n[2];
+    if (!exactNormal(surface(t.face), t, p, n[0]) || !exactNormal(surface(across.face), across, q, n[1])) return true;
+    return facing(n[0], n[1]);
+  }
+
+  const BRepAdaptor_Surface& surface(int face) const {
+    auto& s = surfaces_[face];
+    if (!s) {
+      s = std::make_unique<BRepAdaptor_Surface>(solid_.face(face), false);
+      planar_[face] = s->GetType() == GeomAbs_Plane;
+    }
+    return *s;
   }
 
   const BrepTopology& solid_;
   std::vector<FaceTriangle> triangles_;
   Triangles cgalTriangles_;
   std::unique_ptr<TriangleTree> tree_;
-  std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
-  std::vector<bool> planar_;
+  // Per face, built when first needed.
+  mutable std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
+  mutable std::vector<bool> planar_;
   bool fromShape_;  // curvature and thickness count (a fineness is set)
   double sizeOverRadius_, sizesPerThickness_, offset_;
   std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
@@ -364,36 +406,21 @@ class GapRays {
   }
 
  private:
-  // Faces meeting at an angle (a chamfer's circle resting on a flat face) leave a wedge, not a
-  // gap: narrowing to nothing where they meet, it would ask for sizes without bound, and Rule
-  // Set T treats it as the small input angle it is. Faces facing each other within this angle
-  // (their exact normals; a tessellation's can be off by half its 0.5 rad angular deflection)
-  // are a gap: a clearance fit, a plate above another.
-  static constexpr double kParallelWithinDeg = 15;
-
   // Whether the exact faces at p (on owner's triangle t) and at q (on other's triangle
-  // facing) face each other within kParallelWithinDeg; true where a normal is unknown.
-  bool facesParallel(size_t owner, const FaceTriangle& t, const Point3& p, size_t other, const FaceTriangle& facing,
+  // facing) face each other (kFacingWithinDeg: a chamfer's circle resting on a flat face is a
+  // wedge); true where a normal is unknown.
+  bool facesParallel(size_t owner, const FaceTriangle& t, const Point3& p, size_t other, const FaceTriangle& facingTriangle,
                      const Point3& q) const {
     Point3 n[2];
-    if (!exactNormal(owner, t, p, n[0]) || !exactNormal(other, facing, q, n[1])) return true;
-    return dot(n[0], n[1]) < -std::cos(kParallelWithinDeg * kPi / 180);
+    if (!exactNormal(surface(owner, t.face), t, p, n[0]) || !exactNormal(surface(other, facingTriangle.face), facingTriangle, q, n[1]))
+      return true;
+    return facing(n[0], n[1]);
   }
 
-  // The exact face's unit normal at the point of triangle t nearest p, on t's side.
-  bool exactNormal(size_t sampler, const FaceTriangle& t, const Point3& p, Point3& normal) const {
-    if (!t.hasUv) return false;
-    auto& surface = surfaces_[{sampler, t.face}];
-    if (!surface) surface = std::make_unique<BRepAdaptor_Surface>(samplers_[sampler].solid().face(t.face), false);
-    const std::array<double, 2> w = barycentric(t, p);
-    const double u = w[0] * t.uv[0].X() + w[1] * t.uv[1].X() + (1 - w[0] - w[1]) * t.uv[2].X();
-    const double v = w[0] * t.uv[0].Y() + w[1] * t.uv[1].Y() + (1 - w[0] - w[1]) * t.uv[2].Y();
-    BRepLProp_SLProps props(*surface, u, v, 1, 1e-9);
-    if (!props.IsNormalDefined()) return false;
-    const gp_Dir d = props.Normal();
-    normal = {d.X(), d.Y(), d.Z()};
-    if (dot(normal, t.normal) < 0) normal = -1.0 * normal;
-    return true;
+  const BRepAdaptor_Surface& surface(size_t sampler, int face) const {
+    auto& s = surfaces_[{sampler, face}];
+    if (!s) s = std::make_unique<BRepAdaptor_Surface>(samplers_[sampler].solid().face(face), false);
+    return *s;
   }
 
   const std::vector<FaceSampler>& samplers_;
