@@ -117,6 +117,27 @@ TEST(RuleSetQ, CurvesAlongTheSameArcAreNotSplit) {
   EXPECT_EQ(splitAtCrossings(graph, 1e-9, 0.004, 1).polylines.size(), 2u);
 }
 
+TEST(RuleSetQ, CurvesSampledFinerThanTheSnapKeepTheirEnds) {
+  // Sizes from the geometry sample a curve every 0.01 where the snap distance (2.5 % of the
+  // job's edge size) is 0.1: the split thins it to that, and used to drop its last vertex with
+  // the others, so the star vertex it shares with the next curve was lost (part.step at
+  // "moderate": 42 of 46).
+  std::vector<Point3> fine, next;
+  for (int k = 0; k <= 100; ++k) fine.push_back({0.01 * k, 0, 0});
+  for (int k = 0; k <= 4; ++k) next.push_back({1, 0.25 * k, 0});
+  FeatureGraph graph;
+  graph.polylines = {cadCurve(fine, 1), cadCurve(next, 2)};
+  const FeatureGraph split = splitAtCrossings(graph, 0.1, 1e-6, 1);
+  ASSERT_EQ(split.polylines.size(), 2u);
+  const std::vector<Point3>& thinned = split.polylines[0].points;
+  EXPECT_EQ(thinned.front(), fine.front());
+  EXPECT_EQ(thinned.back(), fine.back());
+  EXPECT_LT(thinned.size(), fine.size());
+  for (size_t k = 0; k + 1 < thinned.size(); ++k) EXPECT_GT(distance(thinned[k], thinned[k + 1]), 0.1 - 1e-12);
+  EXPECT_EQ(split.polylines[1].points, next);
+  EXPECT_EQ(findStarVertices(split, 1e-9).size(), 1u);
+}
+
 TEST(RuleSetQ, TJunctionIsSplitAndEqualized) {
   // A curve ending inside a segment of another: the other is split there, giving a star
   // vertex of three curves with end segments 1, 1 and 2 long.

@@ -155,26 +155,34 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
     // Rebuild the point list with the meeting points, remembering which points are cuts.
     std::vector<Point3> points;
     std::vector<char> cut;
-    auto add = [&](const Point3& p, bool isCut, double snap) {
+    // A vertex within the snap distance of the point before is dropped (a curve sampled finer
+    // than that, by sizes from the geometry, is thinned to it), but never the curve's last one:
+    // other curves share it as their end.
+    auto add = [&](const Point3& p, bool isCut, bool isEnd, double snap) {
       if (!points.empty() && distance(points.back(), p) <= snap) {
         if (isCut) {  // a meeting point replaces the vertex it falls on, so both curves share it
           points.back() = p;
           cut.back() = 1;
+          return;
         }
-        return;
+        if (!isEnd || cut.back()) return;  // a meeting point just before stands for the end
+        if (points.size() > 1) {
+          points.back() = p;
+          return;
+        }
       }
       points.push_back(p);
       cut.push_back(isCut);
     };
     for (size_t k = 0; k < pl.points.size(); ++k) {
-      add(pl.points[k], false, tolerance);
+      add(pl.points[k], false, k + 1 == pl.points.size(), tolerance);
       auto it = inserts[i].find(k);
       if (it == inserts[i].end() || k + 1 == pl.points.size()) continue;
       std::vector<Point3> along = it->second;
       const Point3 start = pl.points[k];
       std::sort(along.begin(), along.end(),
                 [&](const Point3& x, const Point3& y) { return distance(start, x) < distance(start, y); });
-      for (const Point3& p : along) add(p, true, tolerance);
+      for (const Point3& p : along) add(p, true, false, tolerance);
     }
     // Break the polyline at every meeting point: pieces meet only at their ends.
     FeaturePolyline piece = pl;
