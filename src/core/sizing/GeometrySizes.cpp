@@ -120,6 +120,17 @@ constexpr double kFacingWithinDeg = 15;
 // kFacingWithinDeg.
 bool facing(const Point3& a, const Point3& b) { return dot(a, b) < -std::cos(kFacingWithinDeg * kPi / 180); }
 
+// Whether the exact faces at p (on triangle a of surface sa) and at q (on triangle b of
+// surface sb) face each other, as a wall's or a gap's two sides do, not as a wedge's; true
+// where an exact normal is unknown. Opposite triangles need no exact normals.
+bool faceEachOther(const BRepAdaptor_Surface& sa, const FaceTriangle& a, const Point3& p, const BRepAdaptor_Surface& sb,
+                   const FaceTriangle& b, const Point3& q) {
+  if (dot(a.normal, b.normal) < -0.9999) return true;
+  Point3 n[2];
+  if (!exactNormal(sa, a, p, n[0]) || !exactNormal(sb, b, q, n[1])) return true;
+  return facing(n[0], n[1]);
+}
+
 // The ball radius of triangles with N of their edges around a full circle of radius 1.
 double sizePerRadius(int segmentsPerCircle) { return 2 * std::sin(kPi / segmentsPerCircle) / std::sqrt(3.0); }
 
@@ -220,6 +231,15 @@ class FaceSampler {
   // input hides count too: an estimate for orders of magnitude).
   double surfaceVertices() const { return surfaceVertices_; }
   const SizeSample& smallest() const { return smallest_; }
+  // `face`'s exact surface, built when first needed.
+  const BRepAdaptor_Surface& surface(int face) const {
+    auto& s = surfaces_[face];
+    if (!s) {
+      s = std::make_unique<BRepAdaptor_Surface>(solid_.face(face), false);
+      planar_[face] = s->GetType() == GeomAbs_Plane;
+    }
+    return *s;
+  }
 
   // Curvature and thickness samples (into `shape`, with a fineness) and gap samples (into
   // `gaps`) spaced at the sizes each triangle asks for; `gapSize` (triangle, point): the size a
@@ -284,26 +304,10 @@ class FaceSampler {
     if (!q) return std::numeric_limits<double>::infinity();  // the ray runs within a triangle
     const size_t j = static_cast<size_t>(hit->second - cgalTriangles_.cbegin());
     if (j == index || dot(triangles_[j].normal, t.normal) > -0.2) return std::numeric_limits<double>::infinity();
-    if (!facesAcross(t, p, triangles_[j], Point3{q->x(), q->y(), q->z()})) return std::numeric_limits<double>::infinity();
+    const FaceTriangle& across = triangles_[j];
+    if (!faceEachOther(surface(t.face), t, p, surface(across.face), across, Point3{q->x(), q->y(), q->z()}))
+      return std::numeric_limits<double>::infinity();
     return (std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_) / sizesPerThickness_;
-  }
-
-  // Whether the faces at p (on t) and at q (on across) face each other as a wall's two sides
-  // do, not as a wedge's; true where an exact normal is unknown.
-  bool facesAcross(const FaceTriangle& t, const Point3& p, const FaceTriangle& across, const Point3& q) const {
-    if (facing(t.normal, across.normal) && dot(t.normal, across.normal) < -0.9999) return true;  // both flat there
-    Point3 n[2];
-    if (!exactNormal(surface(t.face), t, p, n[0]) || !exactNormal(surface(across.face), across, q, n[1])) return true;
-    return facing(n[0], n[1]);
-  }
-
-  const BRepAdaptor_Surface& surface(int face) const {
-    auto& s = surfaces_[face];
-    if (!s) {
-      s = std::make_unique<BRepAdaptor_Surface>(solid_.face(face), false);
-      planar_[face] = s->GetType() == GeomAbs_Plane;
-    }
-    return *s;
   }
 
   const BrepTopology& solid_;
@@ -388,7 +392,8 @@ class GapRays {
     const double band = deviations_[owner] + deviations_[other];
     if (along + band <= contactTolerance_) return {};
     const Point3 hitPoint{q->x(), q->y(), q->z()};
-    if (!facesParallel(owner, t, p, other, facing, hitPoint)) return {};
+    if (!faceEachOther(samplers_[owner].surface(t.face), t, p, samplers_[other].surface(facing.face), facing, hitPoint))
+      return {};
     double width = along;
     if (!(along - band > contactTolerance_)) {
       // From each end of the ray, its solid's nearest boundary point to the other solid's
@@ -406,27 +411,8 @@ class GapRays {
   }
 
  private:
-  // Whether the exact faces at p (on owner's triangle t) and at q (on other's triangle
-  // facing) face each other (kFacingWithinDeg: a chamfer's circle resting on a flat face is a
-  // wedge); true where a normal is unknown.
-  bool facesParallel(size_t owner, const FaceTriangle& t, const Point3& p, size_t other, const FaceTriangle& facingTriangle,
-                     const Point3& q) const {
-    Point3 n[2];
-    if (!exactNormal(surface(owner, t.face), t, p, n[0]) || !exactNormal(surface(other, facingTriangle.face), facingTriangle, q, n[1]))
-      return true;
-    return facing(n[0], n[1]);
-  }
-
-  const BRepAdaptor_Surface& surface(size_t sampler, int face) const {
-    auto& s = surfaces_[{sampler, face}];
-    if (!s) s = std::make_unique<BRepAdaptor_Surface>(samplers_[sampler].solid().face(face), false);
-    return *s;
-  }
-
   const std::vector<FaceSampler>& samplers_;
   const std::vector<const Source*>& sources_;
-  // Per sampler and face, built when first needed.
-  mutable std::map<std::pair<size_t, int>, std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
   Triangles triangles_;
   std::vector<std::pair<size_t, size_t>> owners_;  // per triangle: sampler, triangle there
   std::vector<double> deviations_;                 // per sampler: triangles to exact faces, at most
