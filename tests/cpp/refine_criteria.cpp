@@ -155,5 +155,38 @@ TEST(RefineFacetCriteria, StrictestMaterialOnEitherSideAndNoneOutside) {
   EXPECT_TRUE(std::isinf(FacetCriteria(t).bound(rightFacet(0.5, 0, 0), &MaterialCriteria::facet_size)));
 }
 
+TEST(RefineFacetCriteria, BridgeWiderThanTheContactToleranceIsBad) {
+  CriteriaTable t = facetTable(10, 10, 0);  // size and distance pass
+  FacetShape between = rightFacet(0.5, 1, 2);
+  between.bridge = 0.3;
+  EXPECT_EQ(FacetCriteria(t).judge(between).badness, 0) << "contact tolerance 0: not checked";
+  t.contact_tolerance = 0.3;
+  EXPECT_EQ(FacetCriteria(t).judge(between).badness, 0) << "empty space as wide as the tolerance touches";
+  between.bridge = 0.31;
+  const FacetVerdict v = FacetCriteria(t).judge(between);
+  EXPECT_EQ(v.badness, FacetBridgeCriterion::kExcess);
+  EXPECT_EQ(std::string(v.reason), "its dual edge crosses empty space between two parts wider than the contact tolerance");
+  // A facet too big by more than the bridge's fixed excess keeps its own reason first.
+  const CriteriaTable small = [&] {
+    CriteriaTable s = facetTable(0.5, 10, 0);
+    s.contact_tolerance = 0.3;
+    return s;
+  }();
+  EXPECT_EQ(std::string(FacetCriteria(small).judge(between).reason), "surface Delaunay ball radius above facet_size");
+}
+
+TEST(RefineFacetCriteria, InterfaceCornerOffAPartIsBad) {
+  CriteriaTable t = facetTable(10, 10, 0);
+  t.contact_tolerance = 0.1;
+  FacetShape between = rightFacet(0.5, 1, 2);
+  EXPECT_EQ(FacetCriteria(t).judge(between).badness, 0) << "every corner touches both parts";
+  between.offInterface = true;  // a corner on a chamfer below the plate it is said to touch
+  const FacetVerdict v = FacetCriteria(t).judge(between);
+  EXPECT_EQ(v.badness, FacetOnInterfaceCriterion::kExcess);
+  EXPECT_EQ(std::string(v.reason), "a corner farther than the contact tolerance from one of the two parts it lies between");
+  t.contact_tolerance = 0;
+  EXPECT_EQ(FacetCriteria(t).judge(between).badness, 0) << "contact tolerance 0: not checked";
+}
+
 }  // namespace
 }  // namespace oraclemesh::refine

@@ -53,6 +53,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                               " model units): FreeCAD works in mm, check the units of the inputs");
   CriteriaTable criteria = resolveCriteria(job, diagonal);
   report.contact_tolerance = contactTolerance(job, oracle, inputs);
+  criteria.contact_tolerance = report.contact_tolerance.value;
   report.gaps = attachSizeField(criteria, job, oracle, report.contact_tolerance.value, control);
   checkExpectedSize(job, oracle, criteria);
   report.inputs = describeInputs(oracle, inputs);

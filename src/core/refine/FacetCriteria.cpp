@@ -84,6 +84,16 @@ FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
       v.reason = "facet angle below facet_angle";
     }
   }
+  const FacetBridgeCriterion bridge{table_.contact_tolerance};
+  if (bridge.fails(f) && FacetBridgeCriterion::kExcess > worst) {
+    worst = FacetBridgeCriterion::kExcess;
+    v.reason = "its dual edge crosses empty space between two parts wider than the contact tolerance";
+  }
+  const FacetOnInterfaceCriterion onInterface{table_.contact_tolerance};
+  if (onInterface.fails(f) && FacetOnInterfaceCriterion::kExcess > worst) {
+    worst = FacetOnInterfaceCriterion::kExcess;
+    v.reason = "a corner farther than the contact tolerance from one of the two parts it lies between";
+  }
   v.badness = worst > 1 ? worst : 0;
   return v;
 }

@@ -17,6 +17,8 @@ struct FacetShape {
   Point3 ballCentre{};              // where the facet's dual edge crosses the boundary
   int labelA = 0, labelB = 0;       // the materials on the two sides of that crossing
   bool cornersOnBoundary = true;    // false when a corner is an interior (or infinite) vertex
+  double bridge = 0;                // empty space the dual edge crosses between two materials
+  bool offInterface = false;        // between two materials: a corner off one of the parts
 };
 
 // The facet's three vertices must lie on the boundary (T2's first premise).
@@ -45,6 +47,29 @@ struct FacetAngleCriterion {
   double bound = 0;  // already capped
   static double smallestAngleDeg(const FacetShape& f);
   bool applies() const;
+};
+
+// A facet between two materials whose dual edge crosses empty space wider than the contact
+// tolerance joins two parts across a gap or a wedge that the mesh does not have yet (a nut's
+// chamfer under a plate): the cells on either side are labelled by circumcentres beyond it.
+// Parts closer than the tolerance touch, so narrower empty space is no gap.
+struct FacetBridgeCriterion {
+  // Its badness: a fixed priority, as for a facet too big (how much wider than the tolerance
+  // says nothing about how wrong the facet is; at a tolerance of 1e-6 of the model every
+  // bridge would come first).
+  static constexpr double kExcess = 2;
+  double bound = 0;  // the contact tolerance; 0: off
+  bool fails(const FacetShape& f) const { return bound > 0 && f.bridge > bound; }
+};
+
+// A facet between two materials with a corner farther than the contact tolerance from one of
+// the parts puts the interface where they do not touch: where a contact ends in a wedge
+// (a chamfer leaving a plate's face), a coarse facet joins the contact's edge to a vertex on
+// the chamfer, and the void under it meshes as the other part.
+struct FacetOnInterfaceCriterion {
+  static constexpr double kExcess = 2;  // its badness, as for a bridge
+  double bound = 0;                     // the contact tolerance; 0: off
+  bool fails(const FacetShape& f) const { return bound > 0 && f.offInterface; }
 };
 
 struct FacetVerdict {

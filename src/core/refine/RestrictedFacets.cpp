@@ -38,6 +38,53 @@ void RuleSetTRefiner::dualOf(CH c, int i, Point3& from, Point3& to, int& labelFr
   labelTo = 0;  // beyond every input
 }
 
+// The widest empty space between two parts that the dual edge a->b crosses: for each stretch
+// outside every material between two crossings, the distance from each end to the surface
+// the other end is on, the smaller of the two (a dual edge may cross a gap obliquely; its
+// stretch there is longer than the gap is wide). Only stretches longer than `narrow` are
+// measured (projections cost), narrower ones are no gap wider than it.
+double RuleSetTRefiner::bridgedGap(const std::vector<CompositeCrossing>& crossings, double narrow) const {
+  double widest = 0;
+  for (size_t k = 0; k + 1 < crossings.size(); ++k) {
+    const CompositeCrossing& from = crossings[k];
+    const CompositeCrossing& to = crossings[k + 1];
+    if (from.labelAfter != 0 || distance(from.point, to.point) <= narrow) continue;
+    const auto& entries = oracle_.entries();
+    const double width = std::min(entries[to.entry].source->project(from.point).distance,
+                                  entries[from.entry].source->project(to.point).distance);
+    widest = std::max(widest, width);
+  }
+  return widest;
+}
+
+// Whether vertex v is inside a part of `material` or within the contact tolerance of its
+// surface. A vertex put on an entry's boundary lies on that entry exactly.
+bool RuleSetTRefiner::nearMaterial(VH v, int material) const {
+  const auto& entries = oracle_.entries();
+  const int own = v->info().boundaryEntry;
+  if (own >= 0 && entries[own].material == material) return true;
+  auto [it, inserted] = nearMaterial_.try_emplace({v->info().id, material}, false);
+  if (!inserted) return it->second;
+  const double tolerance = options_.criteria.contact_tolerance;
+  const Point3 p = toPoint3(v->point());
+  for (const OracleEntry& e : entries) {
+    if (e.material != material || !e.source->bbox().contains(p, tolerance)) continue;
+    if (e.source->inside(p) || e.source->project(p).distance <= tolerance) return it->second = true;
+  }
+  return false;
+}
+
+// Whether a corner of facet (c, i) lies farther than the contact tolerance from a part of
+// one of the two materials the facet lies between.
+bool RuleSetTRefiner::offInterface(CH c, int i, int materialA, int materialB) const {
+  for (int k = 1; k < 4; ++k) {
+    const VH w = c->vertex((i + k) & 3);
+    if (dt_.is_infinite(w) || w->info().dimension == 3) continue;  // T2's own premise fails
+    if (!nearMaterial(w, materialA) || !nearMaterial(w, materialB)) return true;
+  }
+  return false;
+}
+
 void RuleSetTRefiner::evaluateFacet(CH c, int i) {
   CH n = c->neighbor(i);
   const int j = n->index(c);
@@ -70,6 +117,10 @@ void RuleSetTRefiner::evaluateFacet(CH c, int i) {
           data.entry = x.entry;
         }
       }
+      if (labelFrom > 0 && labelTo > 0 && options_.criteria.contact_tolerance > 0)
+        data.bridge = bridgedGap(crossings, options_.criteria.contact_tolerance);
+      if (data.restricted && data.labelA > 0 && data.labelB > 0 && options_.criteria.contact_tolerance > 0)
+        data.offInterface = offInterface(c, i, data.labelA, data.labelB);
     }
   }
   c->info().facets[i] = data;
@@ -88,6 +139,8 @@ double RuleSetTRefiner::facetBadness(CH c, int i, std::string* reason, bool with
   shape.ballCentre = f.centre;
   shape.labelA = f.labelA;
   shape.labelB = f.labelB;
+  shape.bridge = f.bridge;
+  shape.offInterface = f.offInterface;
   for (int k = 0; k < 3; ++k) {
     const VH w = c->vertex((i + 1 + k) & 3);
     if (dt_.is_infinite(w) || w->info().dimension == 3) {

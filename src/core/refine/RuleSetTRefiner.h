@@ -56,6 +56,11 @@ struct FacetData {
   Point3 centre{};  // surface Delaunay ball centre: where the dual edge crosses the boundary
   int labelA = 0, labelB = 0;
   int entry = -1;   // the oracle entry whose boundary that crossing is on
+  // Between two materials: the width of the widest gap or wedge of empty space that the dual
+  // edge crosses (0: none, or none wider than the contact tolerance), and whether a corner
+  // lies farther than the contact tolerance from one of the two parts (FacetCriteria.h).
+  double bridge = 0;
+  bool offInterface = false;
 };
 
 struct CellInfo {
@@ -239,6 +244,9 @@ class RuleSetTRefiner {
 
   // --------------------------------------------------- T2 (RestrictedFacets.cpp)
   void dualOf(CH c, int i, Point3& from, Point3& to, int& labelFrom, int& labelTo) const;
+  bool offInterface(CH c, int i, int materialA, int materialB) const;
+  bool nearMaterial(VH v, int material) const;
+  double bridgedGap(const std::vector<CompositeCrossing>& crossings, double narrow) const;
   void evaluateFacet(CH c, int i);
   double facetBadness(CH c, int i, std::string* reason = nullptr, bool withAngle = true) const;
   bool refineOneFacet();
@@ -348,6 +356,9 @@ class RuleSetTRefiner {
 
   std::priority_queue<QueueEntry> segmentQueue_, facetQueue_, cellQueue_;
   std::map<std::pair<uint64_t, int>, std::string> leftReasons_;
+  // nearMaterial's answers per (vertex id, material), for the facets around a vertex are
+  // evaluated again and again; relocate() drops a vertex's when rule P moves it.
+  mutable std::map<std::pair<int64_t, int>, bool> nearMaterial_;
   bool movingVertices_ = false;  // rule P has started (see cornersForRounding)
 };
 

@@ -15,6 +15,7 @@
 // cheaply first: the corner's cells with the corner moved, before any Delaunay update.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Error.h"
 #include "refine/DihedralAngles.h"
@@ -260,6 +261,8 @@ std::array<int64_t, 4> RuleSetTRefiner::cornerIds(CH c) const {
 std::vector<CH> RuleSetTRefiner::relocate(VH v, const Point3& target, const std::vector<CH>& changed,
                                            const std::map<std::array<int64_t, 4>, SavedCell>* before) {
   for (CH c : changed) c->info().stamp = 0;  // queued entries of deleted cells read as stale
+  nearMaterial_.erase(nearMaterial_.lower_bound({v->info().id, std::numeric_limits<int>::min()}),
+                      nearMaterial_.upper_bound({v->info().id, std::numeric_limits<int>::max()}));
   std::vector<CH> fresh;
   dt_.move_if_no_collision_and_give_new_cells(v, toCgal(target), std::back_inserter(fresh));
   std::vector<std::pair<std::array<int64_t, 4>, CH>> ordered;
