@@ -57,6 +57,14 @@ double RuleSetTRefiner::bridgedGap(const std::vector<CompositeCrossing>& crossin
   return widest;
 }
 
+bool RuleSetTRefiner::contactEnds(int materialA, int materialB) const {
+  auto judged = [&](int m) {
+    auto it = contactEndMaterials_.find(m);
+    return it != contactEndMaterials_.end() && it->second;
+  };
+  return judged(materialA) && judged(materialB);
+}
+
 // Whether vertex v is inside a part of `material` or within the contact tolerance of its
 // surface. A vertex put on an entry's boundary lies on that entry exactly.
 bool RuleSetTRefiner::nearMaterial(VH v, int material) const {
@@ -117,9 +125,9 @@ void RuleSetTRefiner::evaluateFacet(CH c, int i) {
           data.entry = x.entry;
         }
       }
-      if (labelFrom > 0 && labelTo > 0 && options_.criteria.contact_tolerance > 0)
+      if (labelFrom > 0 && labelTo > 0 && contactEnds(labelFrom, labelTo))
         data.bridge = bridgedGap(crossings, options_.criteria.contact_tolerance);
-      if (data.restricted && data.labelA > 0 && data.labelB > 0 && options_.criteria.contact_tolerance > 0)
+      if (data.restricted && data.labelA > 0 && data.labelB > 0 && contactEnds(data.labelA, data.labelB))
         data.offInterface = offInterface(c, i, data.labelA, data.labelB);
     }
   }

@@ -359,6 +359,10 @@ class RuleSetTRefiner {
   // nearMaterial's answers per (vertex id, material), for the facets around a vertex are
   // evaluated again and again; relocate() drops a vertex's when rule P moves it.
   mutable std::map<std::pair<int64_t, int>, bool> nearMaterial_;
+  // Materials whose facets the contact-end criteria judge: every entry a B-rep, feature
+  // curves in the job, a contact tolerance (constructor).
+  std::map<int, bool> contactEndMaterials_;
+  bool contactEnds(int materialA, int materialB) const;
   bool movingVertices_ = false;  // rule P has started (see cornersForRounding)
 };
 

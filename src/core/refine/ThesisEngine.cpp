@@ -44,6 +44,16 @@ RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const Feature
   // The gap sizes lower every facet size and the feature edges' size (kEdgeSizePerSize times
   // them, CriteriaTable::*SizeAt): the terminator follows the smaller.
   if (options.criteria.gap_field) terminatorPerGapSize_ = std::min(1.0, kEdgeSizePerSize) / kSizePerTerminator;
+  // The contact-end criteria (FacetCriteria.h) refine towards the curve where three regions
+  // meet. Where that curve is a constrained segment (a B-rep part's edge, a junction) its
+  // protection ends the refinement; where inputs have no feature curves (triangle surfaces,
+  // images, features off) the refinement chased it down to the terminator length and left
+  // facets with corners off the contact there (two boxes of triangles: the interface 6 % short).
+  if (options.criteria.contact_tolerance > 0 && !features.empty())
+    for (const OracleEntry& e : oracle.entries())
+      if (e.material > 0) contactEndMaterials_[e.material] = true;
+  for (const OracleEntry& e : oracle.entries())
+    if (e.material > 0 && !e.source->brepTopology()) contactEndMaterials_[e.material] = false;
 }
 
 double RuleSetTRefiner::terminatorAt(const Point3& p) const {
