@@ -46,8 +46,9 @@ struct CriteriaTable {
   // stay apart at every mesh size. Not the cells: a gap is empty space, the faces across it
   // are what must not meet, and the cells behind them grade by their radius-edge bound.
   std::shared_ptr<const SizeField> gap_field;
-  // Parts closer than this touch (job/ContactTolerance); a restricted facet that bridges
-  // wider empty space between two parts is refined (thesis engine). 0: not checked.
+  // Parts closer than this touch (job/ContactTolerance). The thesis engine refines a facet
+  // between two parts that bridges wider empty space or has a corner farther from one of
+  // them (refine/FacetCriteria.h, contact ends). 0: not checked.
   double contact_tolerance = 0;
 
   // Whether sizes vary over space (either field is set).

@@ -58,11 +58,7 @@ double RuleSetTRefiner::bridgedGap(const std::vector<CompositeCrossing>& crossin
 }
 
 bool RuleSetTRefiner::contactEnds(int materialA, int materialB) const {
-  auto judged = [&](int m) {
-    auto it = contactEndMaterials_.find(m);
-    return it != contactEndMaterials_.end() && it->second;
-  };
-  return judged(materialA) && judged(materialB);
+  return contactEndMaterials_.count(materialA) && contactEndMaterials_.count(materialB);
 }
 
 // Whether vertex v is inside a part of `material` or within the contact tolerance of its

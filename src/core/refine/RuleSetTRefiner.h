@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <queue>
 #include <random>
 #include <string>
@@ -361,7 +362,7 @@ class RuleSetTRefiner {
   mutable std::map<std::pair<int64_t, int>, bool> nearMaterial_;
   // Materials whose facets the contact-end criteria judge: every entry a B-rep, feature
   // curves in the job, a contact tolerance (constructor).
-  std::map<int, bool> contactEndMaterials_;
+  std::set<int> contactEndMaterials_;
   bool contactEnds(int materialA, int materialB) const;
   bool movingVertices_ = false;  // rule P has started (see cornersForRounding)
 };

@@ -47,13 +47,15 @@ RuleSetTRefiner::RuleSetTRefiner(const HierarchicalOracle& oracle, const Feature
   // The contact-end criteria (FacetCriteria.h) refine towards the curve where three regions
   // meet. Where that curve is a constrained segment (a B-rep part's edge, a junction) its
   // protection ends the refinement; where inputs have no feature curves (triangle surfaces,
-  // images, features off) the refinement chased it down to the terminator length and left
-  // facets with corners off the contact there (two boxes of triangles: the interface 6 % short).
-  if (options.criteria.contact_tolerance > 0 && !features.empty())
+  // images, features off) the refinement chases it down to the terminator length and leaves
+  // facets with corners off the contact there, worse than none.
+  if (options.criteria.contact_tolerance > 0 && !features.empty()) {
+    std::set<int> withoutCurves;
     for (const OracleEntry& e : oracle.entries())
-      if (e.material > 0) contactEndMaterials_[e.material] = true;
-  for (const OracleEntry& e : oracle.entries())
-    if (e.material > 0 && !e.source->brepTopology()) contactEndMaterials_[e.material] = false;
+      if (e.material > 0 && !e.source->brepTopology()) withoutCurves.insert(e.material);
+    for (const OracleEntry& e : oracle.entries())
+      if (e.material > 0 && !withoutCurves.count(e.material)) contactEndMaterials_.insert(e.material);
+  }
 }
 
 double RuleSetTRefiner::terminatorAt(const Point3& p) const {
