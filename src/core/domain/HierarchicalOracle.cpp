@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Error.h"
 #include "domain/CoordinateRange.h"
@@ -42,6 +43,16 @@ int HierarchicalOracle::label(const Point3& p) const {
   const int i = decidingEntry(p);
   if (i < 0 || entries_[i].role == Role::Cut) return 0;
   return entries_[i].material;
+}
+
+double HierarchicalOracle::distanceToMaterial(const Point3& p, int material, double reach) const {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const OracleEntry& e : entries_) {
+    if (e.role != Role::Material || e.material != material || !e.source->bbox().contains(p, reach)) continue;
+    if (e.source->inside(p)) return 0;
+    nearest = std::min(nearest, e.source->project(p).distance);
+  }
+  return nearest;
 }
 
 bool HierarchicalOracle::coveredByHigherEntry(const Point3& p, int entry) const {

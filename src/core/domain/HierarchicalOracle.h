@@ -40,6 +40,9 @@ class HierarchicalOracle {
   // True when p is strictly inside (not just on the boundary) an entry with a higher
   // priority than `entry`, i.e. whatever entry `entry` says about p is overridden.
   bool coveredByHigherEntry(const Point3& p, int entry) const;
+  // Distance from p to the closure of `material`'s entries: 0 inside one, else the distance
+  // to the nearest boundary of those whose box comes within `reach` of p (infinity: none).
+  double distanceToMaterial(const Point3& p, int material, double reach) const;
 
   const std::vector<OracleEntry>& entries() const { return entries_; }
   // Bounding box of the material entries (cuts cannot add volume).

@@ -11,12 +11,6 @@ namespace oraclemesh {
 
 namespace {
 
-bool inBox(const Bbox& box, const Point3& p, double margin) {
-  for (int k = 0; k < 3; ++k)
-    if (p[k] < box.min[k] - margin || p[k] > box.max[k] + margin) return false;
-  return true;
-}
-
 double triangleArea(const Point3& a, const Point3& b, const Point3& c) { return 0.5 * norm(cross(b - a, c - a)); }
 
 // Distances from mesh vertices to the closure of one material's inputs, each computed once
@@ -29,16 +23,7 @@ class MaterialDistances {
   double operator()(const Point3& p, int64_t vertex, int material) {
     const auto [it, added] = cache_.emplace(std::make_pair(vertex, material), 0.0);
     if (!added) return it->second;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const OracleEntry& e : oracle_.entries()) {
-      if (e.role != Role::Material || e.material != material || !inBox(e.source->bbox(), p, reach_)) continue;
-      if (e.source->inside(p)) {
-        nearest = 0;
-        break;
-      }
-      nearest = std::min(nearest, e.source->project(p).distance);
-    }
-    return it->second = nearest;
+    return it->second = oracle_.distanceToMaterial(p, material, reach_);
   }
 
  private:

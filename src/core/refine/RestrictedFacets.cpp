@@ -70,12 +70,7 @@ bool RuleSetTRefiner::nearMaterial(VH v, int material) const {
   auto [it, inserted] = nearMaterial_.try_emplace({v->info().id, material}, false);
   if (!inserted) return it->second;
   const double tolerance = options_.criteria.contact_tolerance;
-  const Point3 p = toPoint3(v->point());
-  for (const OracleEntry& e : entries) {
-    if (e.material != material || !e.source->bbox().contains(p, tolerance)) continue;
-    if (e.source->inside(p) || e.source->project(p).distance <= tolerance) return it->second = true;
-  }
-  return false;
+  return it->second = oracle_.distanceToMaterial(toPoint3(v->point()), material, tolerance) <= tolerance;
 }
 
 // Whether a corner of facet (c, i) lies farther than the contact tolerance from a part of
