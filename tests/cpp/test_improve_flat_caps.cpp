@@ -117,6 +117,34 @@ TEST(ImproveFlatCaps, CapOnACurvedPatchIsKept) {
   EXPECT_EQ(m.tets, before.tets);
 }
 
+// With curved caps allowed, the same ridge (1e-3 over a diagonal of 1.4: within 1 % of the
+// longest edge) is a sliver on a curved piece: it goes, and its volume counts apart.
+TEST(ImproveFlatCaps, CapOnACurvedPatchGoesWhenCurvedCapsAreAllowed) {
+  const TetMesh before = cappedPyramid(1e-3);
+  TetMesh m = before;
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound, CurvedCapLimits{0.01, 1e-2});
+  EXPECT_EQ(s.boundary_caps_removed, 1);
+  EXPECT_EQ(s.curved_caps, 1);
+  EXPECT_EQ(s.largest_volume_change, 0);
+  // What moved is the cap's volume (1e-3 / 3, a share of 1e-3 of the material's).
+  const double share = (test::volumePerMaterial(before).at(1) - test::volumePerMaterial(m).at(1)) /
+                       test::volumePerMaterial(before).at(1);
+  EXPECT_GT(share, 0);
+  EXPECT_NEAR(s.largest_curved_volume_change, share, 1e-12);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_FALSE(hasEdge(m, P0, P2));
+  expectConsistent(before, m, 1e-2);
+}
+
+TEST(ImproveFlatCaps, CurvedCapOverItsVolumeBoundOrFlatnessIsKept) {
+  for (const CurvedCapLimits limits : {CurvedCapLimits{0.01, 1e-4}, CurvedCapLimits{1e-4, 1e-2}}) {
+    TetMesh m = cappedPyramid(1e-3);
+    const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound, limits);
+    EXPECT_EQ(s.boundary_caps_removed, 0);
+    EXPECT_EQ(m.tets.size(), 3u);
+  }
+}
+
 TEST(ImproveFlatCaps, CapOverTheVolumeBoundIsKept) {
   TetMesh m = cappedPyramid(1e-12);
   const FlatCapStats s = removeFlatCaps(m, kFlatness, 1e-13);  // the cap is 1e-12 of the volume

@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "RunControl.h"
+#include "improve/BoundaryPlacement.h"
 #include "improve/EdgeRemoval.h"
 #include "improve/FaceRemoval.h"
 #include "improve/ImprovementMesh.h"
@@ -322,6 +324,91 @@ TEST(ImproveSmoothing, FeatureVertexStaysOnItsLine) {
   EXPECT_LT(m.points[0][0], 0.6);
   EXPECT_GT(minDihedralOf(m), q0);
   expectValid(before, m);
+}
+
+// Puts points back onto analytic shapes for the curved cases: a sphere for surface vertices,
+// a circle in z = 0 for curve vertices.
+class AnalyticPlacement final : public BoundaryPlacement {
+ public:
+  AnalyticPlacement(const Point3& centre, double radius) : centre_(centre), radius_(radius) {}
+  std::optional<Point3> ontoSurface(int64_t, const Point3& q) const override {
+    const Point3 d = q - centre_;
+    return centre_ + (radius_ / norm(d)) * d;
+  }
+  std::optional<Point3> ontoCurve(int64_t, const Point3& q) const override {
+    const Point3 d{q[0] - centre_[0], q[1] - centre_[1], 0};
+    return Point3{centre_[0], centre_[1], 0} + (radius_ / norm(d)) * d;
+  }
+
+ private:
+  Point3 centre_;
+  double radius_;
+};
+
+// The fan of pyramidFannedFrom over a base on the sphere of radius 3 centred at (0, 0, -3):
+// corners (+-1, +-1) and v at (0.8, 0.1), lifted onto the sphere.
+constexpr double kSphereRadius = 3;
+const Point3 kSphereCentre{0, 0, -kSphereRadius};
+Point3 onSphere(double x, double y) {
+  return {x, y, std::sqrt(kSphereRadius * kSphereRadius - x * x - y * y) - kSphereRadius};
+}
+TetMesh fanOverSphericalBase() {
+  return pyramidFannedFrom(onSphere(0.8, 0.1), {{onSphere(-1, -1), onSphere(1, -1), onSphere(1, 1), onSphere(-1, 1)}});
+}
+
+TEST(ImproveSmoothing, CurvedSurfaceVertexStaysOnItsSurface) {
+  const TetMesh before = fanOverSphericalBase();
+  TetMesh m = before;
+  const AnalyticPlacement sphere(kSphereCentre, kSphereRadius);
+  ImprovementMesh work(m, &sphere, 1.0);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Curved);
+  const double q0 = minDihedralOf(m);
+  ASSERT_TRUE(smoothVertex(work, 0));
+  EXPECT_NEAR(distance(m.points[0], kSphereCentre), kSphereRadius, 1e-12);
+  EXPECT_LT(std::hypot(m.points[0][0], m.points[0][1]), 0.5);  // towards the centre
+  EXPECT_GT(minDihedralOf(m), q0 + 5);
+  for (int64_t v = 1; v < 6; ++v) EXPECT_EQ(m.points[v], before.points[v]);
+  for (const auto& t : m.tets)
+    EXPECT_GT(test::orientation(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]), 0);
+  // The chords over the sphere changed, so the volume did, and the stage counted it.
+  const double share = std::abs(test::volumePerMaterial(m).at(1) / test::volumePerMaterial(before).at(1) - 1);
+  EXPECT_GT(share, 0);
+  EXPECT_NEAR(work.largestVolumeShareMoved(), share, 1e-12);
+}
+
+TEST(ImproveSmoothing, CurvedSurfaceVertexStaysWithoutAPlacementOrVolumeBound) {
+  TetMesh m = fanOverSphericalBase();
+  ImprovementMesh fixed(m);
+  EXPECT_EQ(fixed.mobility(0).freedom, VertexFreedom::Fixed);
+  EXPECT_FALSE(smoothVertex(fixed, 0));
+  const AnalyticPlacement sphere(kSphereCentre, kSphereRadius);
+  ImprovementMesh noVolume(m, &sphere, 0.0);
+  ASSERT_EQ(noVolume.mobility(0).freedom, VertexFreedom::Curved);
+  EXPECT_FALSE(smoothVertex(noVolume, 0));
+  EXPECT_EQ(m.points, fanOverSphericalBase().points);
+}
+
+// A curved feature curve across the planar base of the square (-1, 0, 0) (0, -1, 0) (1, 0, 0)
+// (0, 1, 0): the arc of the circle through (-1, 0, 0) and (1, 0, 0) centred at (0, -2, 0), v on
+// it at x = 0.7. v moves along the arc and stays on it.
+TEST(ImproveSmoothing, CurvedFeatureVertexStaysOnItsCurve) {
+  const double radius = std::sqrt(5.0);
+  TetMesh m = pyramidFannedFrom({0.7, std::sqrt(5 - 0.49) - 2, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
+  m.feature_edges = {{1, 0}, {0, 3}};
+  m.feature_edge_curves = {7, 7};
+  m.vertex_dimension[0] = 1;
+  m.vertex_curve[0] = 7;
+  const TetMesh before = m;
+  const AnalyticPlacement circle({0, -2, 0}, radius);
+  ImprovementMesh work(m, &circle, 1.0);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::OnCurve);
+  const double q0 = minDihedralOf(m);
+  ASSERT_TRUE(smoothVertex(work, 0));
+  EXPECT_EQ(m.points[0][2], 0.0);
+  EXPECT_NEAR(std::hypot(m.points[0][0], m.points[0][1] + 2), radius, 1e-12);
+  EXPECT_LT(m.points[0][0], 0.6);
+  EXPECT_GT(minDihedralOf(m), q0);
+  expectValid(before, m);  // the base is planar: no volume moved
 }
 
 TEST(ImproveSmoothing, CornerNeverMoves) {

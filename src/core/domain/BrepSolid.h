@@ -70,6 +70,9 @@ class BrepSolid : public Source, public BrepTopology {
   Bbox bbox() const override;
   bool inside(const Point3& p) const override;
   BoundaryProjection project(const Point3& p) const override;
+  // Closed form on planes, cylinders, cones, spheres and tori where the foot lies inside the
+  // face; else OpenCASCADE's distance to the trimmed face.
+  BoundaryProjection projectOnPatch(const Point3& p, int face) const override;
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
   // Exact crossings, face by face. A face on a plane, cylinder, cone, sphere or torus whose
   // triangles' band-grown boxes the segment meets is intersected in closed form, its roots

@@ -46,6 +46,13 @@ class Source {
   // boundary may go either way. Must be const and thread-safe.
   virtual bool inside(const Point3& p) const = 0;
   virtual BoundaryProjection project(const Point3& p) const = 0;
+  // The nearest point to p of boundary patch `patch` (for a B-rep, of that face, even where
+  // another face is nearer). Sources whose patches are no smooth pieces (triangles, image
+  // labels) answer with project(p).
+  virtual BoundaryProjection projectOnPatch(const Point3& p, int patch) const {
+    (void)patch;
+    return project(p);
+  }
   // At least one sample on every face / connected boundary component, about `spacing` apart.
   virtual std::vector<BoundarySample> boundarySamples(double spacing) const = 0;
   // Boundary crossings of the segment a->b, sorted by t. Sources with an exact intersection

@@ -95,8 +95,8 @@ bool isFlat(const std::vector<Point3>& p, const Cap& cap, double flatness) {
 
 class CapRemoval {
  public:
-  CapRemoval(TetMesh& mesh, double flatness, double volume_bound)
-      : work_(mesh), flatness_(flatness), volume_bound_(volume_bound) {
+  CapRemoval(TetMesh& mesh, double flatness, double volume_bound, const CurvedCapLimits& curved)
+      : work_(mesh), flatness_(flatness), volume_bound_(volume_bound), curved_(curved) {
     for (size_t t = 0; t < mesh.tets.size(); ++t) volume_[mesh.tet_materials[t]] += volumeOf(mesh.tets[t]);
   }
 
@@ -109,23 +109,28 @@ class CapRemoval {
     int64_t changes = 0;
     const int64_t slots = work_.tetSlots();
     for (int64_t t = 0; t < slots; ++t) {
-      if (!work_.alive(t) || !thinEnough(work_.tet(t))) continue;
+      if (!work_.alive(t)) continue;
+      const double flatness = flatnessOf(work_.tet(t));
+      if (!thinEnough(work_.tet(t), flatness)) continue;
       const Cap cap = capOf(work_, t);
-      if (cap.a < 0 || !isFlat(work_.points(), cap, flatness_)) continue;
+      if (cap.a < 0 || !isFlat(work_.points(), cap, flatness)) continue;
+      curved_cap_ = !isFlat(work_.points(), cap, flatness_);
       const bool done = cap.across.side == FaceSide::Outer ? removeOuter(t, cap) : flipInterface(t, cap);
       if (!apply) {
         stats.caps_kept += !done;
       } else if (done) {
         ++changes;
         ++(cap.across.side == FaceSide::Outer ? stats.boundary_caps_removed : stats.interface_caps_flipped);
+        stats.curved_caps += curved_cap_;
       }
     }
     return changes;
   }
 
-  double largestVolumeChange() const {
+  double largestVolumeChange(bool curved) const {
     double largest = 0;
-    for (const auto& [material, moved] : moved_) largest = std::max(largest, moved / volume_.at(material));
+    for (const auto& [material, moved] : curved ? curved_moved_ : moved_)
+      largest = std::max(largest, moved / volume_.at(material));
     return largest;
   }
 
@@ -139,21 +144,35 @@ class CapRemoval {
   // w = 2 flatness; the faces facing one way cover the tet's shadow on the slab, at most twice
   // the largest face, so the volume is at most 2w/3 of the largest face and the height over it
   // at most 2w.
-  bool thinEnough(const TetCorners& t) const {
+  bool thinEnough(const TetCorners& t, double flatness) const {
     const auto& p = work_.points();
     double largest = 0;
     for (int i = 0; i < 4; ++i) {
       const Point3 &a = p[t[(i + 1) % 4]], &b = p[t[(i + 2) % 4]], &c = p[t[(i + 3) % 4]];
       largest = std::max(largest, 0.5 * norm(cross(b - a, c - a)));
     }
-    return largest > 0 && 3 * volumeOf(t) / largest <= 4 * flatness_;
+    return largest > 0 && 3 * volumeOf(t) / largest <= 4 * flatness;
   }
 
-  bool withinVolumeBound(int material, double volume) const {
-    const auto it = moved_.find(material);
-    const double before = it == moved_.end() ? 0 : it->second;
-    return before + volume <= volume_bound_ * volume_.at(material);
+  // The absolute flatness, or with curved caps that share of the tet's longest edge if larger.
+  double flatnessOf(const TetCorners& t) const {
+    if (!(curved_.relative_flatness > 0)) return flatness_;
+    const auto& p = work_.points();
+    double longest = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, distance(p[t[i]], p[t[j]]));
+    return std::max(flatness_, curved_.relative_flatness * longest);
   }
+
+  // Within the bound of the current cap's kind (flat or curved).
+  bool withinVolumeBound(int material, double volume) const {
+    const auto& moved = curved_cap_ ? curved_moved_ : moved_;
+    const auto it = moved.find(material);
+    const double before = it == moved.end() ? 0 : it->second;
+    return before + volume <= (curved_cap_ ? curved_.volume_bound : volume_bound_) * volume_.at(material);
+  }
+
+  void countVolume(int material, double volume) { (curved_cap_ ? curved_moved_ : moved_)[material] += volume; }
 
   // The edge ab disappears with the tet unless another tet has it; c and d stay in the inner
   // faces' neighbours, a and b too, so every vertex stays used.
@@ -165,7 +184,7 @@ class CapRemoval {
     if (!withinVolumeBound(material, volume)) return false;
     if (!apply_) return true;
     work_.replace({t}, {}, material);
-    moved_[material] += volume;
+    countVolume(material, volume);
     return true;
   }
 
@@ -195,23 +214,26 @@ class CapRemoval {
     if (!withinVolumeBound(own, volume) || !withinVolumeBound(other, volume)) return false;
     if (!apply_) return true;
     work_.replace(ring, made, other);
-    moved_[own] += volume;
-    moved_[other] += volume;
+    countVolume(own, volume);
+    countVolume(other, volume);
     return true;
   }
 
   ImprovementMesh work_;
   double flatness_, volume_bound_;
+  CurvedCapLimits curved_;
   bool apply_ = true;
-  std::map<int, double> volume_;  // per material, before
-  std::map<int, double> moved_;   // per material, summed volume gained or lost
+  bool curved_cap_ = false;             // the cap being changed lies on a curved piece
+  std::map<int, double> volume_;        // per material, before
+  std::map<int, double> moved_;         // per material, summed volume gained or lost by flat caps
+  std::map<int, double> curved_moved_;  // the same by curved caps
 };
 
 }  // namespace
 
-FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound) {
+FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound, const CurvedCapLimits& curved) {
   FlatCapStats stats;
-  CapRemoval removal(mesh, flatness, volume_bound);
+  CapRemoval removal(mesh, flatness, volume_bound, curved);
   int64_t changes = 0;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     const int64_t made = removal.sweep(stats, true);
@@ -219,7 +241,8 @@ FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound)
     if (made == 0) break;
   }
   removal.sweep(stats, false);
-  stats.largest_volume_change = removal.largestVolumeChange();
+  stats.largest_volume_change = removal.largestVolumeChange(false);
+  stats.largest_curved_volume_change = removal.largestVolumeChange(true);
   if (changes == 0) return stats;
   removal.work().writeBack(mesh);
   mesh.boundary = extractBoundary(mesh);

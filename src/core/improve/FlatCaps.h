@@ -17,6 +17,18 @@ struct FlatCapStats {
   int64_t interface_caps_flipped = 0; // interface: tet given to the other side, its ring re-triangulated
   int64_t caps_kept = 0;              // flat caps a condition kept (feature edge, manifold, volume, orientation)
   double largest_volume_change = 0;   // over the materials: summed volume moved / material volume
+  int64_t curved_caps = 0;            // of the changes, caps on curved pieces
+  double largest_curved_volume_change = 0;  // the same share for those
+};
+
+// Caps lying on a curved piece of the boundary or an interface (slivers whose four corners
+// are on one curved face): flat within `relative_flatness` of their longest edge instead of
+// the absolute flatness. Their change takes the sliver's volume from one side (a chord of the
+// face replaces another), counted apart within `volume_bound` of each material's volume.
+// relative_flatness 0: none.
+struct CurvedCapLimits {
+  double relative_flatness = 0;
+  double volume_bound = 0;
 };
 
 // Flat means every corner within `flatness` (absolute length) of one plane, the two cap faces
@@ -26,6 +38,6 @@ struct FlatCapStats {
 // positive (exact predicate) and no worse than the flat one, and the volume each material
 // gains or loses, summed over the changes, stays within `volume_bound` of its volume. Rebuilds
 // mesh.boundary when it changes anything. Deterministic: tets are taken in index order.
-FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound);
+FlatCapStats removeFlatCaps(TetMesh& mesh, double flatness, double volume_bound, const CurvedCapLimits& curved = {});
 
 }  // namespace oraclemesh

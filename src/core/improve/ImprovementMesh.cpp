@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "Error.h"
+#include "mesh/Quality.h"
 
 namespace oraclemesh {
 namespace {
@@ -26,7 +27,8 @@ std::array<int64_t, 3> ImprovementMesh::faceKey(int64_t a, int64_t b, int64_t c)
   return k;
 }
 
-ImprovementMesh::ImprovementMesh(TetMesh& mesh) : points_(mesh.points) {
+ImprovementMesh::ImprovementMesh(TetMesh& mesh, const BoundaryPlacement* placement, double curvedVolumeBound)
+    : points_(mesh.points), placement_(placement), curved_volume_bound_(curvedVolumeBound) {
   if (mesh.order() != 1) throw Error("mesh improvement: second-order mesh; improve before placing mid nodes");
   tets_ = mesh.tets;
   materials_ = mesh.tet_materials;
@@ -38,6 +40,35 @@ ImprovementMesh::ImprovementMesh(TetMesh& mesh) : points_(mesh.points) {
   for (const auto& e : mesh.feature_edges) protected_edges_.insert({std::min(e[0], e[1]), std::max(e[0], e[1]), -1});
   classifyVertices(mesh);
   changed_at_.assign(points_.size(), 0);
+  if (placement_)
+    for (size_t t = 0; t < tets_.size(); ++t) {
+      const TetCorners& c = tets_[t];
+      material_volume_[materials_[t]] += tetVolume(points_[c[0]], points_[c[1]], points_[c[2]], points_[c[3]]);
+    }
+}
+
+bool ImprovementMesh::volumeFits(const std::map<int, double>& change) const {
+  for (const auto& [material, dv] : change) {
+    const auto total = material_volume_.find(material);
+    if (total == material_volume_.end()) return false;
+    const auto moved = volume_moved_.find(material);
+    const double before = moved == volume_moved_.end() ? 0 : moved->second;
+    if (before + std::abs(dv) > curved_volume_bound_ * std::abs(total->second)) return false;
+  }
+  return true;
+}
+
+void ImprovementMesh::spendVolume(const std::map<int, double>& change) {
+  for (const auto& [material, dv] : change) volume_moved_[material] += std::abs(dv);
+}
+
+double ImprovementMesh::largestVolumeShareMoved() const {
+  double share = 0;
+  for (const auto& [material, moved] : volume_moved_) {
+    const double total = std::abs(material_volume_.at(material));
+    if (total > 0) share = std::max(share, moved / total);
+  }
+  return share;
 }
 
 void ImprovementMesh::markMoved(int64_t v) {
@@ -86,8 +117,8 @@ void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
       for (size_t i : boundaryOf[v])
         for (int64_t w : mesh.boundary[i].v)
           if (std::abs(dot(points_[w] - p, axis)) > kFlatTolerance * reach) flat = false;
-      if (!flat) continue;
-      mobility_[v].freedom = VertexFreedom::Planar;
+      if (!flat && !placement_) continue;
+      mobility_[v].freedom = flat ? VertexFreedom::Planar : VertexFreedom::Curved;
       mobility_[v].axis = axis;
       for (size_t i : boundaryOf[v]) mobility_[v].boundary_triangles.push_back(mesh.boundary[i].v);
       continue;
@@ -101,17 +132,19 @@ void ImprovementMesh::classifyVertices(const TetMesh& mesh) {
     const int64_t w0 = e0[0] == static_cast<int64_t>(v) ? e0[1] : e0[0];
     const int64_t w1 = e1[0] == static_cast<int64_t>(v) ? e1[1] : e1[0];
     const Point3 u0 = points_[w0] - p, u1 = points_[w1] - p;
-    if (norm(cross(u0, u1)) > kFlatTolerance * norm(u0) * norm(u1) || dot(u0, u1) >= 0) continue;
+    if (dot(u0, u1) >= 0) continue;  // a curve doubling back at v: no chord to move along
     // Moving along the line keeps every boundary triangle at v in its plane only if the
     // line lies in that plane (then no material gains or loses volume).
     const Point3 axis = unit(u1 - u0);
-    bool inEveryPlane = true;
+    bool straight = norm(cross(u0, u1)) <= kFlatTolerance * norm(u0) * norm(u1);
     for (const Point3& m : normals)
-      if (std::abs(dot(m, axis)) > kFlatTolerance) inEveryPlane = false;
-    if (!inEveryPlane) continue;
-    mobility_[v].freedom = VertexFreedom::Linear;
+      if (std::abs(dot(m, axis)) > kFlatTolerance) straight = false;
+    if (!straight && !placement_) continue;
+    mobility_[v].freedom = straight ? VertexFreedom::Linear : VertexFreedom::OnCurve;
     mobility_[v].axis = axis;
     mobility_[v].feature_neighbours = {w0, w1};
+    if (!straight)
+      for (size_t i : boundaryOf[v]) mobility_[v].boundary_triangles.push_back(mesh.boundary[i].v);
   }
 }
 

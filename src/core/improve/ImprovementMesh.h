@@ -5,9 +5,11 @@
 // TetMesh; writeBack puts the surviving and new tets back in a deterministic order.
 #include <array>
 #include <cstdint>
+#include <map>
 #include <unordered_set>
 #include <vector>
 
+#include "improve/BoundaryPlacement.h"
 #include "improve/TetShape.h"
 #include "mesh/TetMesh.h"
 
@@ -15,25 +17,31 @@ namespace oraclemesh {
 
 // How a vertex may move without leaving its place in the model.
 enum class VertexFreedom {
-  Fixed,   // corners, curved surfaces and curves, vertices of several interfaces
+  Fixed,   // corners, vertices of several interfaces; curved ones without a BoundaryPlacement
   Free,    // interior of one material
   Planar,  // inside a planar patch of the boundary: in that plane
   Linear,  // inside a straight feature curve: along its line
+  Curved,  // inside a curved patch of one interface: in its tangent plane, then back onto it
+  OnCurve, // inside a curved feature curve: along its chord, then back onto the curve
 };
 
 struct VertexMobility {
   VertexFreedom freedom = VertexFreedom::Fixed;
   Point3 axis{};  // unit normal of the plane (Planar) or direction of the line (Linear)
-  // What bounds the move besides the tets: the boundary triangles at the vertex (Planar), whose
-  // circumradius the facet size bounds, or the two ends of its feature edges (Linear), whose
-  // length the edge size bounds.
+  // What bounds the move besides the tets: the boundary triangles at the vertex (Planar,
+  // Curved, OnCurve), whose circumradius the facet size bounds, and the two ends of its feature
+  // edges (Linear, OnCurve), whose length the edge size bounds.
   std::vector<std::array<int64_t, 3>> boundary_triangles;
   std::array<int64_t, 2> feature_neighbours{-1, -1};
 };
 
 class ImprovementMesh {
  public:
-  explicit ImprovementMesh(TetMesh& mesh);
+  // With `placement`, vertices on curved patches and curves move too (Curved, OnCurve); each
+  // material's volume may then change, by at most `curvedVolumeBound` of it in all (absolute
+  // changes summed): a vertex moved from one point of a curved face to another changes the
+  // chords, not the face.
+  explicit ImprovementMesh(TetMesh& mesh, const BoundaryPlacement* placement = nullptr, double curvedVolumeBound = 0);
 
   std::vector<Point3>& points() { return points_; }
   const std::vector<Point3>& points() const { return points_; }
@@ -43,6 +51,14 @@ class ImprovementMesh {
   int64_t tetSlots() const { return static_cast<int64_t>(tets_.size()); }
   const std::vector<int64_t>& tetsOf(int64_t v) const { return vertex_tets_[v]; }
   const VertexMobility& mobility(int64_t v) const { return mobility_[v]; }
+  const BoundaryPlacement* placement() const { return placement_; }
+
+  // Whether the volume changes `change` (material -> signed volume) fit in what is left of each
+  // material's bound; spendVolume counts them against it.
+  bool volumeFits(const std::map<int, double>& change) const;
+  void spendVolume(const std::map<int, double>& change);
+  // The largest share of a material's volume moved so far (absolute changes summed).
+  double largestVolumeShareMoved() const;
 
   // Alive tets having both ends of the edge / all three corners of the face.
   std::vector<int64_t> tetsAroundEdge(int64_t a, int64_t b) const;
@@ -84,6 +100,10 @@ class ImprovementMesh {
   std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_faces_;
   std::unordered_set<std::array<int64_t, 3>, KeyHash> protected_edges_;  // (a, b, -1), a < b
   std::vector<VertexMobility> mobility_;
+  const BoundaryPlacement* placement_ = nullptr;
+  double curved_volume_bound_ = 0;
+  std::map<int, double> material_volume_;
+  std::map<int, double> volume_moved_;
   std::vector<int64_t> changed_at_;
   int64_t clock_ = 0;
 };

@@ -133,7 +133,9 @@ class Driver {
         switch (mesh_.mobility(v).freedom) {
           case VertexFreedom::Free: ++stats_.smoothed_interior; break;
           case VertexFreedom::Planar: ++stats_.smoothed_surface; break;
-          default: ++stats_.smoothed_feature; break;
+          case VertexFreedom::Linear: ++stats_.smoothed_feature; break;
+          case VertexFreedom::Curved: ++stats_.smoothed_curved_surface; break;
+          default: ++stats_.smoothed_curved_feature; break;
         }
       }
     }
@@ -160,8 +162,10 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
   const auto start = std::chrono::steady_clock::now();
   if (options.flat_caps && !mesh.tets.empty())
     stats.flat_caps = removeFlatCaps(mesh, options.flat_cap_flatness * boundingDiagonal(mesh.points),
-                                     options.flat_cap_volume_bound);
-  ImprovementMesh work(mesh);
+                                     options.flat_cap_volume_bound,
+                                     options.placement ? CurvedCapLimits{options.curved_cap_flatness, options.curved_volume_bound}
+                                                       : CurvedCapLimits{});
+  ImprovementMesh work(mesh, options.placement, options.curved_volume_bound);
   Driver driver(work, options, control, stats);
   for (int pass = 0; pass < options.max_passes && !stats.stopped_by_time_limit; ++pass) {
     ++stats.passes;
@@ -169,6 +173,7 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
     if (changes == 0) break;
   }
   work.writeBack(mesh);
+  stats.curved_volume_share = work.largestVolumeShareMoved();
   stats.min_dihedral_after = meshMinDihedral(mesh);
   stats.after = countPoorTets(mesh);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,11 +5,13 @@
 // after each one and can be stopped anywhere. It runs on the final linear mesh of either
 // engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
 // boundary and interface triangle, every feature edge, each tet's material, per-material
-// volumes (vertices move only inside planar patches and along straight curves), and the size
-// criteria (no new tet bigger in circumradius or radius-edge ratio than the worst it replaces).
+// volumes (exactly where vertices move inside planar patches and along straight curves; within
+// `curved_volume_bound` where they move on curved faces and curves), and the size criteria (no
+// new tet bigger in circumradius or radius-edge ratio than the worst it replaces).
 #include <cstdint>
 
 #include "RunControl.h"
+#include "improve/BoundaryPlacement.h"
 #include "improve/FlatCaps.h"
 #include "mesh/TetMesh.h"
 
@@ -25,6 +27,13 @@ struct ImprovementOptions {
   bool flat_caps = true;
   double flat_cap_flatness = 1e-9;
   double flat_cap_volume_bound = 1e-9;
+  // Puts vertices moved on curved faces and curves back onto them; null: those stay.
+  const BoundaryPlacement* placement = nullptr;
+  // The share of each material's volume such moves may change in all (absolute changes summed),
+  // and the same again for caps on curved pieces (FlatCaps.h, with a placement only): flat
+  // within this share of their longest edge.
+  double curved_volume_bound = 1e-5;
+  double curved_cap_flatness = 0.05;
 };
 
 struct PoorTetCounts {
@@ -42,6 +51,9 @@ struct ImprovementStats {
   int64_t smoothed_interior = 0;
   int64_t smoothed_surface = 0;  // in a planar patch
   int64_t smoothed_feature = 0;  // along a straight curve
+  int64_t smoothed_curved_surface = 0;  // on a curved face, put back onto it
+  int64_t smoothed_curved_feature = 0;  // on a curved curve, put back onto it
+  double curved_volume_share = 0;       // the largest share of a material's volume those moved
   FlatCapStats flat_caps;
   int passes = 0;
   bool stopped_by_time_limit = false;

@@ -4,7 +4,10 @@
 // line searches along the ascent direction of that worst angle. Interior vertices move
 // freely; vertices inside a planar boundary patch move in its plane and vertices inside a
 // straight feature curve along its line (so each stays on its CAD face or edge and no
-// material gains or loses volume); all others stay.
+// material gains or loses volume). With the mesh's BoundaryPlacement, vertices inside a curved
+// patch move in its tangent plane and vertices inside a curved feature curve along their
+// chord, each step put back onto the face or curve; the volume this moves between a material
+// and its outside is bounded (ImprovementMesh::volumeFits). All others stay.
 #include <cstdint>
 
 #include "improve/ImprovementMesh.h"
@@ -12,8 +15,9 @@
 namespace oraclemesh {
 
 // Moves vertex v when that strictly raises the smallest dihedral angle of its tets, keeps
-// every one of them positively oriented (exact predicate) and none bigger than the worst of
-// them before. Returns whether it moved.
+// every one of them positively oriented (exact predicate), none bigger than the worst of them
+// before, and no boundary triangle or feature edge at v bigger than the biggest before.
+// Returns whether it moved.
 bool smoothVertex(ImprovementMesh& mesh, int64_t v);
 
 }  // namespace oraclemesh

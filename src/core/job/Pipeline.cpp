@@ -7,6 +7,7 @@
 #include "Error.h"
 #include "domain/HierarchicalOracle.h"
 #include "improve/MeshImprovement.h"
+#include "improve/OracleBoundaryPlacement.h"
 #include "job/ContactTolerance.h"
 #include "job/EngineRun.h"
 #include "job/FeatureAssembly.h"
@@ -95,8 +96,10 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
 
   // After the snap (which moves vertices) and before mid nodes are placed on the final topology.
   control.report("improve", 0);
+  const OracleBoundaryPlacement placement(mesh, oracle, features.curves, snap);
   ImprovementOptions improvement;
   improvement.time_limit = job.optimize_time_limit;
+  improvement.placement = &placement;
   report.improve.enabled = job.improve;
   if (job.improve) report.improve.stats = improveMesh(mesh, improvement, control);
   report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle);

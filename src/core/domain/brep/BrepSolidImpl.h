@@ -22,6 +22,7 @@
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <Geom_Surface.hxx>
 #include <IntCurvesFace_Intersector.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
@@ -198,6 +199,8 @@ struct BrepSolid::Impl {
     // The parametric domain test IntCurvesFace_Intersector applies to its own solutions
     // (same class, same tolerance), for the Newton solutions.
     std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> domainByFace;
+    // projectOnPatch(): each face's surface with what its projections learnt of it.
+    std::vector<Handle(ShapeAnalysis_Surface)> projectorByFace;
   };
   BRepTopAdaptor_FClass2d& domainOf(FaceIntersectors& lease, int face) const {
     auto& domain = lease.domainByFace[face];
@@ -206,6 +209,10 @@ struct BrepSolid::Impl {
   }
   mutable std::mutex intersectorMutex;
   mutable std::vector<std::unique_ptr<FaceIntersectors>> idleIntersectors;
+  // A set of intersectors and domain tests for one query (made when none is idle), given back
+  // after it.
+  std::unique_ptr<FaceIntersectors> leaseIntersectors() const;
+  void giveBack(std::unique_ptr<FaceIntersectors> lease) const;
 
   void index();
   bool proxyTrusted(const KPoint& q) const;

@@ -14,6 +14,27 @@
 
 namespace oraclemesh {
 
+std::unique_ptr<BrepSolid::Impl::FaceIntersectors> BrepSolid::Impl::leaseIntersectors() const {
+  {
+    std::lock_guard<std::mutex> lock(intersectorMutex);
+    if (!idleIntersectors.empty()) {
+      std::unique_ptr<FaceIntersectors> lease = std::move(idleIntersectors.back());
+      idleIntersectors.pop_back();
+      return lease;
+    }
+  }
+  auto lease = std::make_unique<FaceIntersectors>();
+  lease->byFace.resize(faces.size());
+  lease->domainByFace.resize(faces.size());
+  lease->projectorByFace.resize(faces.size());
+  return lease;
+}
+
+void BrepSolid::Impl::giveBack(std::unique_ptr<FaceIntersectors> lease) const {
+  std::lock_guard<std::mutex> lock(intersectorMutex);
+  idleIntersectors.push_back(std::move(lease));
+}
+
 std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, const Point3& b,
                                                               const std::vector<FaceSpan>& candidates) const {
   std::vector<BoundaryCrossing> result;
@@ -22,19 +43,7 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
   const double length = norm(d);
   const gp_Lin line(toGp(a), gp_Dir(d[0], d[1], d[2]));
 
-  std::unique_ptr<FaceIntersectors> lease;
-  {
-    std::lock_guard<std::mutex> lock(intersectorMutex);
-    if (!idleIntersectors.empty()) {
-      lease = std::move(idleIntersectors.back());
-      idleIntersectors.pop_back();
-    }
-  }
-  if (!lease) {
-    lease = std::make_unique<FaceIntersectors>();
-    lease->byFace.resize(faces.size());
-    lease->domainByFace.resize(faces.size());
-  }
+  std::unique_ptr<FaceIntersectors> lease = leaseIntersectors();
   struct Hit {
     BoundaryCrossing crossing;
     int solid;
@@ -134,10 +143,7 @@ std::vector<BoundaryCrossing> BrepSolid::Impl::exactCrossings(const Point3& a, c
       addHit(f, w, intersector->UParameter(i), intersector->VParameter(i));
     }
   }
-  {
-    std::lock_guard<std::mutex> lock(intersectorMutex);
-    idleIntersectors.push_back(std::move(lease));
-  }
+  giveBack(std::move(lease));
 
   std::sort(hits.begin(), hits.end(), [](const Hit& x, const Hit& y) {
     return x.crossing.t != y.crossing.t ? x.crossing.t < y.crossing.t : x.crossing.patch < y.crossing.patch;
