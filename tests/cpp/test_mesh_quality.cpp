@@ -129,7 +129,7 @@ TEST(MeshQuality, StraightTet10JacobianIsSixTimesVolumeEverywhere) {
   for (const std::array<double, 4>& l : {std::array<double, 4>{1, 0, 0, 0}, std::array<double, 4>{0, 0, 0, 1},
                                          std::array<double, 4>{0.1, 0.2, 0.3, 0.4}})
     EXPECT_NEAR(tet10JacobianDeterminant(n, l), 16.0, 1e-12);
-  EXPECT_NEAR(tet10MinJacobianAtCornersAndCentroid(n), 16.0, 1e-12);
+  EXPECT_NEAR(tet10MinJacobianAtCornersAndGaussPoints(n), 16.0, 1e-12);
 }
 
 // Pushing the mid node of edge 01 of the corner tet to (1/2, 0, -delta) maps z to
@@ -148,14 +148,28 @@ TEST(MeshQuality, CurvedTet10VolumeIsExact) {
     EXPECT_NEAR(test::tetVolume(mesh, 0), (1 + delta) / 6, 1e-14) << delta;  // independent rule
     EXPECT_NEAR(measureQuality(mesh).volume_per_material.at(1), (1 + delta) / 6, 1e-14);
     // det J at corner 1 (xi = 1) is 1 + 4 delta, elsewhere among the samples larger or 1.
-    EXPECT_NEAR(tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, 0)), std::min(1.0, 1 + 4 * delta), 1e-14);
+    EXPECT_NEAR(tet10MinJacobianAtCornersAndGaussPoints(tet10Nodes(mesh, 0)), std::min(1.0, 1 + 4 * delta), 1e-14);
   }
+}
+
+// Mid nodes moved so that the determinant stays positive at the corners and the centroid but
+// not at the first integration point of C3D10 (found by a random search): CalculiX would stop
+// there, so the check must see it.
+TEST(MeshQuality, Tet10FoldedOnlyAtAnIntegrationPointHasNegativeJacobian) {
+  Tet10Nodes n{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-0.257, -0.159, 0.21}, {0.203, 0.504, -0.216},
+                {-0.064, 0.402, -0.287}, {0.159, -0.316, 0.25}, {0.718, 0.239, 0.662}, {0.081, 1.065, 0.193}}};
+  for (const std::array<double, 4>& l :
+       {std::array<double, 4>{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {0.25, 0.25, 0.25, 0.25}})
+    EXPECT_GT(tet10JacobianDeterminant(n, l), 0.01);
+  const double a = 0.5854101966249685, b = 0.1381966011250105;
+  EXPECT_NEAR(tet10JacobianDeterminant(n, {a, b, b, b}), -1.2048, 1e-4);
+  EXPECT_LT(tet10MinJacobianAtCornersAndGaussPoints(n), 0);
 }
 
 TEST(MeshQuality, FoldedTet10HasNegativeJacobian) {
   const TetMesh mesh = cornerTetWithBentEdge(-0.3);
   EXPECT_NEAR(tet10JacobianDeterminant(tet10Nodes(mesh, 0), {0, 1, 0, 0}), -0.2, 1e-14);
-  EXPECT_LT(tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, 0)), 0);
+  EXPECT_LT(tet10MinJacobianAtCornersAndGaussPoints(tet10Nodes(mesh, 0)), 0);
   // The corners alone are fine: measureQuality's `inverted` is about corners only.
   EXPECT_EQ(measureQuality(mesh).inverted, 0);
 }

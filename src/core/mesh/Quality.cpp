@@ -83,9 +83,12 @@ double tet10JacobianDeterminant(const Tet10Nodes& x, const std::array<double, 4>
   return determinant(column[0], column[1], column[2]);
 }
 
-double tet10MinJacobianAtCornersAndCentroid(const Tet10Nodes& nodes) {
-  static const std::array<double, 4> samples[5] = {
-      {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {0.25, 0.25, 0.25, 0.25}};
+double tet10MinJacobianAtCornersAndGaussPoints(const Tet10Nodes& nodes) {
+  // The four-point rule: (a, b, b, b) and its permutations.
+  constexpr double a = 0.5854101966249685, b = 0.1381966011250105;
+  static const std::array<double, 4> samples[9] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1},
+                                                   {0.25, 0.25, 0.25, 0.25}, {a, b, b, b}, {b, a, b, b},
+                                                   {b, b, a, b}, {b, b, b, a}};
   double smallest = std::numeric_limits<double>::infinity();
   for (const auto& l : samples) smallest = std::min(smallest, tet10JacobianDeterminant(nodes, l));
   return smallest;

@@ -35,10 +35,11 @@ using Tet10Nodes = std::array<Point3, 10>;
 // nodes at the edge midpoints) it is 6 x volume everywhere.
 double tet10JacobianDeterminant(const Tet10Nodes& nodes, const std::array<double, 4>& barycentric);
 
-// Smallest Jacobian determinant over the four corners and the centroid: the sample points at
-// which a curved edge that folds the element shows up first. <= 0 means the element is
-// unusable for a solver ("negative Jacobian" in CalculiX).
-double tet10MinJacobianAtCornersAndCentroid(const Tet10Nodes& nodes);
+// Smallest Jacobian determinant over the four corners, the centroid and the four integration
+// points of CalculiX's C3D10: the corners are where a curved edge that folds the element shows
+// up first, the integration points are where the solver evaluates it (it stops at a
+// non-positive determinant there, "nonpositive jacobian"). <= 0: unusable for a solver.
+double tet10MinJacobianAtCornersAndGaussPoints(const Tet10Nodes& nodes);
 
 // Nodes of tet `t` of `mesh`; for a first-order mesh the mid nodes are the edge midpoints.
 Tet10Nodes tet10Nodes(const TetMesh& mesh, size_t t);

@@ -15,7 +15,7 @@ namespace oraclemesh {
 namespace {
 
 // A curved tet must keep at least this fraction of its straight-sided Jacobian determinant
-// (at corners and centroid). Kept low on purpose: a mid node left off the CAD face is missed
+// (at corners, centroid and integration points). Kept low on purpose: a mid node left off the CAD face is missed
 // by FreeCAD's constraint-node search, and a flat tet whose four corners lie on one curved
 // face (two opposite edges on the face) keeps only ~0.5% of it once both edges follow the
 // face, while staying valid.
@@ -134,7 +134,7 @@ bool curvedTetIsValid(const TetMesh& mesh, size_t t) {
   const auto& v = mesh.tets[t];
   const double straightJacobian =
       6.0 * tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]);
-  const double smallest = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t));
+  const double smallest = tet10MinJacobianAtCornersAndGaussPoints(tet10Nodes(mesh, t));
   return straightJacobian > 0 && smallest > 0 && smallest >= kMinJacobianFraction * straightJacobian;
 }
 

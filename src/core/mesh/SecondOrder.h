@@ -25,7 +25,8 @@ using MidNodePlacer = std::function<Point3(int64_t a, int64_t b, const Point3& s
 //    vertex_curve: the feature edge's curve id, else -1; vertex_boundary_entry: -1. These
 //    arrays are only extended when the mesh has them (empty stays empty).
 // Safety: the placed position is kept only if every tet that has the edge stays valid, i.e.
-// its Jacobian determinant at the four corners and at the centroid is > 0 and at least 10%
+// its Jacobian determinant at the four corners, the centroid and C3D10's four integration
+// points is > 0 and at least 0.2%
 // of the straight-edged tet's (6 x volume), with the mid nodes placed so far. Otherwise the
 // mid node goes back to the straight midpoint (also when the placer returns a non-finite
 // point). Returns the number of such fall-backs.

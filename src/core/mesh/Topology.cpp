@@ -253,7 +253,7 @@ ConformityReport checkConformity(const TetMesh& mesh) {
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     const auto& v = mesh.tets[t];
     bool inverted = tetVolume(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], mesh.points[v[3]]) <= 0;
-    if (!inverted && quadratic) inverted = tet10MinJacobianAtCornersAndCentroid(tet10Nodes(mesh, t)) <= 0;
+    if (!inverted && quadratic) inverted = tet10MinJacobianAtCornersAndGaussPoints(tet10Nodes(mesh, t)) <= 0;
     if (inverted) ++report.inverted_tets;
   }
 
