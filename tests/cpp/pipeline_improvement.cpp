@@ -34,6 +34,19 @@ JobResult meshWithoutStage(const nlohmann::json& input, const nlohmann::json& mo
   return runJob(JobSpec::fromJson(job, ""), RunControl());
 }
 
+// The boundary nodes the stage moved, each checked to be on the solid's faces within 1e-9 of
+// its diagonal (as close as the snap puts them).
+int64_t movedBoundaryNodesOnTheCad(const TetMesh& before, const TetMesh& after, const BrepSolid& solid) {
+  const double diagonal = solid.bbox().diagonal();
+  int64_t moved = 0;
+  for (int64_t v : test::boundaryNodes(after)) {
+    if (after.points[v] == before.points[v]) continue;
+    ++moved;
+    EXPECT_LT(test::distanceToShape(after.points[v], solid.shape()), 1e-9 * diagonal) << v;
+  }
+  return moved;
+}
+
 const JobResult& partWithoutStage() {
   static const JobResult r =
       meshWithoutStage({{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}});
@@ -75,16 +88,8 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
   const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
   for (const auto& [material, volume] : vb) EXPECT_NEAR(va.at(material), volume, 1e-9 * volume);
 
-  // Boundary nodes the stage moved are still on the CAD, as close as the snap put them.
   const auto solid = BrepSolid::fromFile(test::cadDir() + "/part.step", "part");
-  const double diagonal = solid->bbox().diagonal();
-  int64_t moved = 0;
-  for (int64_t v : test::boundaryNodes(after)) {
-    if (after.points[v] == before.points[v]) continue;
-    ++moved;
-    EXPECT_LT(test::distanceToShape(after.points[v], solid->shape()), 1e-9 * diagonal) << v;
-  }
-  EXPECT_GT(moved, 0);
+  EXPECT_GT(movedBoundaryNodesOnTheCad(before, after, *solid), 0);
 }
 
 // presse_asm.step at the defaults as one input of 16 solids, its clearances bonded as the
@@ -180,13 +185,7 @@ TEST(ImprovementStage, KurbelwelleCurvedFacesAndCurvesMoveOnTheCad) {
   const double bound = 2 * ImprovementOptions{}.curved_volume_bound;  // moves, then caps
   const auto vb = test::volumePerMaterial(before), va = test::volumePerMaterial(after);
   for (const auto& [material, volume] : vb) EXPECT_NEAR(va.at(material), volume, bound * volume) << material;
-  int64_t moved = 0;
-  for (int64_t v : test::boundaryNodes(after)) {
-    if (after.points[v] == before.points[v]) continue;
-    ++moved;
-    EXPECT_LT(test::distanceToShape(after.points[v], solid->shape()), 1e-9 * diagonal) << v;
-  }
-  EXPECT_GT(moved, 0);
+  EXPECT_GT(movedBoundaryNodesOnTheCad(before, after, *solid), 0);
 
   const JobResult again = meshWithoutStage(input, withStage);
   EXPECT_EQ(again.mesh.points, after.points);

@@ -70,7 +70,7 @@ class BrepSolid : public Source, public BrepTopology {
   Bbox bbox() const override;
   bool inside(const Point3& p) const override;
   BoundaryProjection project(const Point3& p) const override;
-  // Closed form on planes, cylinders, cones, spheres and tori where the foot lies inside the
+  // The foot on the face's surface (a per-face ShapeAnalysis_Surface) where it lies inside the
   // face; else OpenCASCADE's distance to the trimmed face.
   BoundaryProjection projectOnPatch(const Point3& p, int face) const override;
   std::vector<BoundarySample> boundarySamples(double spacing) const override;
