@@ -29,10 +29,10 @@ struct ImprovementOptions {
   double flat_cap_volume_bound = 1e-9;
   // Puts vertices moved on curved faces and curves back onto them; null: those stay.
   const BoundaryPlacement* placement = nullptr;
-  // The share of each material's volume such moves may change in all (absolute changes summed),
-  // and the same again for caps on curved pieces (FlatCaps.h, with a placement only): flat
-  // within this share of their longest edge.
+  // The share of each material's volume such moves may change in all (absolute changes summed);
+  // caps on curved pieces (FlatCaps.h, with a placement only) get the same share apart.
   double curved_volume_bound = 1e-5;
+  // A cap on a curved piece: its corners within this share of its longest edge of one plane.
   double curved_cap_flatness = 0.05;
 };
 
