@@ -57,6 +57,7 @@ Point3 outwardNormal(const Point3& p, const Point3& q, const Point3& r, const Po
 struct Cap {
   int64_t a = -1, b = -1, c = -1, d = -1;
   FaceNeighbour across;
+  bool curved = false;  // flat only within the curved caps' relative flatness
 };
 
 // Two faces of one kind (outer, or one interface) and two inner faces; else a = -1.
@@ -112,16 +113,16 @@ class CapRemoval {
       if (!work_.alive(t)) continue;
       const double flatness = flatnessOf(work_.tet(t));
       if (!thinEnough(work_.tet(t), flatness)) continue;
-      const Cap cap = capOf(work_, t);
+      Cap cap = capOf(work_, t);
       if (cap.a < 0 || !isFlat(work_.points(), cap, flatness)) continue;
-      curved_cap_ = !isFlat(work_.points(), cap, flatness_);
+      cap.curved = !isFlat(work_.points(), cap, flatness_);
       const bool done = cap.across.side == FaceSide::Outer ? removeOuter(t, cap) : flipInterface(t, cap);
       if (!apply) {
         stats.caps_kept += !done;
       } else if (done) {
         ++changes;
         ++(cap.across.side == FaceSide::Outer ? stats.boundary_caps_removed : stats.interface_caps_flipped);
-        stats.curved_caps += curved_cap_;
+        stats.curved_caps += cap.curved;
       }
     }
     return changes;
@@ -164,15 +165,17 @@ class CapRemoval {
     return std::max(flatness_, curved_.relative_flatness * longest);
   }
 
-  // Within the bound of the current cap's kind (flat or curved).
-  bool withinVolumeBound(int material, double volume) const {
-    const auto& moved = curved_cap_ ? curved_moved_ : moved_;
+  // Within the bound of the cap's kind (flat or curved).
+  bool withinVolumeBound(const Cap& cap, int material, double volume) const {
+    const auto& moved = cap.curved ? curved_moved_ : moved_;
     const auto it = moved.find(material);
     const double before = it == moved.end() ? 0 : it->second;
-    return before + volume <= (curved_cap_ ? curved_.volume_bound : volume_bound_) * volume_.at(material);
+    return before + volume <= (cap.curved ? curved_.volume_bound : volume_bound_) * volume_.at(material);
   }
 
-  void countVolume(int material, double volume) { (curved_cap_ ? curved_moved_ : moved_)[material] += volume; }
+  void countVolume(const Cap& cap, int material, double volume) {
+    (cap.curved ? curved_moved_ : moved_)[material] += volume;
+  }
 
   // The edge ab disappears with the tet unless another tet has it; c and d stay in the inner
   // faces' neighbours, a and b too, so every vertex stays used.
@@ -181,10 +184,10 @@ class CapRemoval {
     if (work_.isProtectedEdge(cap.a, cap.b) && work_.tetsAroundEdge(cap.a, cap.b).size() == 1) return false;
     if (edgeOnSurface(work_, cap.c, cap.d)) return false;
     const double volume = volumeOf(work_.tet(t));
-    if (!withinVolumeBound(material, volume)) return false;
+    if (!withinVolumeBound(cap, material, volume)) return false;
     if (!apply_) return true;
     work_.replace({t}, {}, material);
-    countVolume(material, volume);
+    countVolume(cap, material, volume);
     return true;
   }
 
@@ -211,11 +214,11 @@ class CapRemoval {
     std::vector<TetCorners> made;
     if (!(triangulateEdgeRing(work_, cap.a, cap.b, ring, bound, made) > work_.quality(t))) return false;
     const double volume = volumeOf(work_.tet(t));
-    if (!withinVolumeBound(own, volume) || !withinVolumeBound(other, volume)) return false;
+    if (!withinVolumeBound(cap, own, volume) || !withinVolumeBound(cap, other, volume)) return false;
     if (!apply_) return true;
     work_.replace(ring, made, other);
-    countVolume(own, volume);
-    countVolume(other, volume);
+    countVolume(cap, own, volume);
+    countVolume(cap, other, volume);
     return true;
   }
 
@@ -223,7 +226,6 @@ class CapRemoval {
   double flatness_, volume_bound_;
   CurvedCapLimits curved_;
   bool apply_ = true;
-  bool curved_cap_ = false;             // the cap being changed lies on a curved piece
   std::map<int, double> volume_;        // per material, before
   std::map<int, double> moved_;         // per material, summed volume gained or lost by flat caps
   std::map<int, double> curved_moved_;  // the same by curved caps
