@@ -188,6 +188,37 @@ TEST(MeshTopology, BoundaryEntriesOfTheWrongLengthAreAnError) {
 
 // --- second order ----------------------------------------------------------------------
 
+// Two tets sharing a face, and a third tet of the same material touching them without a face:
+// by three nodes not on one line it is held rigidly (one piece, as a cusp's sliver whose faces
+// are all boundary); by an edge or by three nodes on one line it hangs (two pieces).
+TEST(MeshTopology, PiecesTouchingByThreeNodesOffALineAreOnePiece) {
+  TetMesh mesh;
+  mesh.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {-1, -1, 2}, {-2, 1, -1}, {2, 2, -2},
+                 {0.5, 0, 0}};
+  mesh.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  mesh.tet_materials = {1, 1};
+  EXPECT_EQ(componentsPerMaterial(mesh), (std::map<int, int64_t>{{1, 1}}));
+
+  TetMesh byThreeNodes = mesh;  // nodes 0, 2 and 4 lie in the two tets, no face of them
+  byThreeNodes.tets.push_back({0, 4, 2, 5});
+  byThreeNodes.tet_materials.push_back(1);
+  EXPECT_EQ(componentsPerMaterial(byThreeNodes), (std::map<int, int64_t>{{1, 1}}));
+  byThreeNodes.tet_materials.back() = 2;  // another material's piece is its own
+  EXPECT_EQ(componentsPerMaterial(byThreeNodes), (std::map<int, int64_t>{{1, 1}, {2, 1}}));
+
+  TetMesh byAnEdge = mesh;
+  byAnEdge.tets.push_back({0, 2, 6, 7});
+  byAnEdge.tet_materials.push_back(1);
+  EXPECT_EQ(componentsPerMaterial(byAnEdge), (std::map<int, int64_t>{{1, 2}}));
+
+  TetMesh byNodesOnALine = mesh;  // nodes 0, 8 and 1 lie on the x axis
+  byNodesOnALine.points[8] = {0.5, 0, 0};
+  byNodesOnALine.tets = {{0, 8, 2, 3}, {8, 1, 2, 3}, {0, 8, 6, 7}, {8, 1, 6, 7}};
+  byNodesOnALine.tet_materials = {1, 1, 1, 1};
+  // The first two share face 8-2-3, the last two face 8-6-7; the pairs share 0, 8, 1 only.
+  EXPECT_EQ(componentsPerMaterial(byNodesOnALine), (std::map<int, int64_t>{{1, 2}}));
+}
+
 TEST(MeshSecondOrder, OneSharedMidNodePerEdgeInTetEdgeOrder) {
   TetMesh cube = test::kuhnCube(true);
   EXPECT_EQ(makeSecondOrder(cube, kStraight), 0);

@@ -7,6 +7,8 @@
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
+#include <vector>
 
 #include "Error.h"
 #include "mesh/Quality.h"
@@ -175,6 +177,25 @@ void requireFeatureEdgesInTets(const TetMesh& mesh) {
   throw Error(message.str());
 }
 
+namespace {
+
+// Whether some three of `points` span a triangle (they do not all lie on one line).
+bool spanATriangle(const TetMesh& mesh, const std::vector<int64_t>& points) {
+  if (points.size() < 3) return false;
+  const Point3& a = mesh.points[points[0]];
+  size_t far = 1;
+  for (size_t i = 2; i < points.size(); ++i)
+    if (distance(a, mesh.points[points[i]]) > distance(a, mesh.points[points[far]])) far = i;
+  const Point3 axis = mesh.points[points[far]] - a;
+  const double length = norm(axis);
+  if (length == 0) return false;
+  for (int64_t p : points)
+    if (norm(cross(axis, mesh.points[p] - a)) > 1e-9 * length * length) return true;
+  return false;
+}
+
+}  // namespace
+
 std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
   requireConsistentIndices(mesh);
   std::vector<size_t> parent(mesh.tets.size());
@@ -187,6 +208,38 @@ std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh) {
     if (face.tet_count < 2) continue;
     const size_t a = static_cast<size_t>(face.tets[0]), b = static_cast<size_t>(face.tets[1]);
     if (mesh.tet_materials[a] == mesh.tet_materials[b]) parent[root(a)] = root(b);
+  }
+  // Pieces of one material that share three nodes not on one line hold each other rigidly: to
+  // a solver they are one piece. A sliver in a cusp where two curves meet at 0 degrees has all
+  // its faces on the boundary but every node shared; a piece hanging by an edge or a node stays
+  // apart. Merging two pieces can give the merged one such nodes with a third: repeat.
+  for (bool merged = true; merged;) {
+    merged = false;
+    // Most nodes lie in one piece: list the pieces only at nodes where a second one shows.
+    constexpr size_t kNone = static_cast<size_t>(-1);
+    std::vector<size_t> firstPiece(mesh.points.size(), kNone);
+    std::unordered_map<int64_t, std::vector<size_t>> piecesAt;
+    for (size_t t = 0; t < mesh.tets.size(); ++t)
+      for (int64_t v : mesh.tets[t]) {
+        const size_t r = root(t);
+        if (firstPiece[v] == kNone) firstPiece[v] = r;
+        if (firstPiece[v] == r) continue;
+        std::vector<size_t>& at = piecesAt[v];
+        if (at.empty()) at.push_back(firstPiece[v]);
+        if (std::find(at.begin(), at.end(), r) == at.end()) at.push_back(r);
+      }
+    std::map<std::pair<size_t, size_t>, std::vector<int64_t>> shared;
+    for (const auto& [v, at] : piecesAt) {
+      for (size_t i = 0; i < at.size(); ++i)
+        for (size_t j = i + 1; j < at.size(); ++j)
+          if (mesh.tet_materials[at[i]] == mesh.tet_materials[at[j]])
+            shared[std::minmax(at[i], at[j])].push_back(v);
+    }
+    for (const auto& [pieces, points] : shared)
+      if (root(pieces.first) != root(pieces.second) && spanATriangle(mesh, points)) {
+        parent[root(pieces.first)] = root(pieces.second);
+        merged = true;
+      }
   }
   std::map<int, int64_t> components;
   for (size_t t = 0; t < parent.size(); ++t)

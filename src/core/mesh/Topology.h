@@ -78,7 +78,8 @@ struct ConformityReport {
 
 ConformityReport checkConformity(const TetMesh& mesh);
 
-// Per material, the pieces its tetrahedra form when tets sharing a face are joined.
+// Per material, the pieces its tetrahedra form when tets sharing a face are joined, and pieces
+// sharing three nodes not on one line (rigidly attached) too.
 std::map<int, int64_t> componentsPerMaterial(const TetMesh& mesh);
 
 }  // namespace oraclemesh
