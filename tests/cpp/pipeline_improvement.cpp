@@ -159,7 +159,9 @@ TEST(ImprovementStage, KurbelwelleCurvedFacesAndCurvesMoveOnTheCad) {
   const double size = diagonal / 25;
   const nlohmann::json input = {{"name", "kurbelwelle"}, {"file", file}, {"material", 1}};
   const nlohmann::json sizes = {
-      {"criteria", {{"default", {{"cell_size", size}, {"facet_size", size}, {"facet_distance", diagonal / 1000}}}}}};
+      {"criteria",
+       {{"default", {{"cell_size", size}, {"facet_size", size}, {"facet_distance", diagonal / 1000}}},
+        {"fineness", "off"}}}};  // issue 15's setup: these sizes alone
   const JobResult without = meshWithoutStage(input, sizes);
   nlohmann::json withStage = sizes;
   withStage["optimize"] = {{"improve", true}};

@@ -28,7 +28,8 @@ using nlohmann::json;
 
 json coarsePartJob() {
   return {{"inputs", {{{"name", "part"}, {"file", test::cadDir() + "/part.step"}, {"material", 1}}}},
-          {"criteria", {{"default", {{"cell_size", 1000}, {"facet_size", 1000}, {"facet_distance", 1000}}}}},
+          {"criteria",
+           {{"default", {{"cell_size", 1000}, {"facet_size", 1000}, {"facet_distance", 1000}}}, {"fineness", "off"}}},
           {"element_order", 1}};
 }
 

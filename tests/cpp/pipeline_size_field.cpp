@@ -115,10 +115,18 @@ TEST(SizeFieldModerate, AWallTooThinForTheVertexLimitIsRefusedUpFront) {
   }
 }
 
-TEST(SizeFieldModerate, TheFieldIsOffUnlessTheJobNamesAFinenessAndStaysUnderTheGivenSizes) {
+TEST(SizeFieldModerate, IsTheDefaultUnderTheGivenSizesAndOffTurnsItOff) {
   json job = pinInBlockJob();
   job["criteria"] = {{"default", {{"cell_size", 20}}}};
-  EXPECT_EQ(runJob(JobSpec::fromJson(job, ""), RunControl()).report.at("criteria").at("fineness"), "off");
+  const JobResult unset = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(unset.report.at("criteria").at("fineness"), "moderate");
+  EXPECT_EQ(unset.report.at("criteria").at("size_field").at("segments_per_circle"), 12);
+  EXPECT_LE(unset.report.at("criteria").at("size_field").at("largest").get<double>(), 20);
+  job["criteria"]["fineness"] = "off";
+  const JobResult off = runJob(JobSpec::fromJson(job, ""), RunControl());
+  EXPECT_EQ(off.report.at("criteria").at("fineness"), "off");
+  EXPECT_FALSE(off.report.at("criteria").contains("size_field"));
+  EXPECT_LT(off.mesh.tets.size(), unset.mesh.tets.size());
   job["criteria"]["fineness"] = "coarse";
   const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
   EXPECT_EQ(r.report.at("criteria").at("size_field").at("segments_per_circle"), 8);

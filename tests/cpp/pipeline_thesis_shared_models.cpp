@@ -46,8 +46,9 @@ void expectConforming(const TetMesh& m) {
   EXPECT_EQ(c.inverted, 0);
 }
 
-// A shared model's one solid, meshed at default sizes with sharp edges by the thesis engine,
-// with the B-rep volume to compare against. `extra` adds or overrides job keys.
+// A shared model's one solid, meshed at the diagonal's sizes (fineness off, the default these
+// regressions were found at) with sharp edges by the thesis engine, with the B-rep volume to
+// compare against. `extra` adds or overrides job keys.
 struct SharedModelRun {
   double brep_volume = 0;
   JobResult result;
@@ -57,6 +58,7 @@ SharedModelRun meshSharedModel(const std::string& fileName, const std::string& n
   const auto loaded = BrepSolid::loadFile(file, name, BrepSolid::Grouping::Separate);
   EXPECT_EQ(loaded.solids.size(), 1u) << fileName;
   json job = {{"inputs", {{{"name", name}, {"file", file}, {"material", 1}}}},
+              {"criteria", {{"fineness", "off"}}},
               {"engine", "thesis"},
               {"features", {{"sharp_angle_deg", 30}}},
               {"element_order", 1},

@@ -2,8 +2,9 @@
 (scripts/gui_presse.py drives it; one FreeCAD session, judged here by several tests):
 
 - FreeCAD's own STEP import gives one compound of 16 solids; the mesh command at the
-  defaults (ContactTolerance 0.6 mm, as in the macro) lists one row per solid, named as the STEP file names the parts, and meshes it
-  into one volume group per solid; the hand-off gives every feature edge its mid node;
+  defaults (ContactTolerance 0.6 mm and Fineness very coarse, as in the macro) lists one row
+  per solid, named as the STEP file names the parts, and meshes it into one volume group per
+  solid; the hand-off gives every feature edge its mid node;
 - the screenshot shows at least 10 part colours and no selection highlight;
 - examples/OracleMesh_Presse.FCMacro makes the same mesh, and CalculiX solves it: the ram is
   pushed down and the base's reaction balances the force;
@@ -45,6 +46,10 @@ def test_imported_assembly_hand_off_at_defaults(presse):
     # The recompute used to fail in the hand-off, on feature edges the core returned that
     # were no edge of its tets (issue 17).
     assert presse["options"] == {"engine": "thesis", "order": 2, "sharp": 30.0, "cell_size": 0.0}
+    # A new mesh object's sizes follow the geometry (issue 16); the session picks the macro's
+    # coarser fineness in the panel (see the macro why).
+    assert presse["fineness_default"] == "moderate"
+    assert presse["fineness_chosen"] == "very coarse"
     assert presse["nodes_per_volume"] == 10
     assert presse["max_signed_volume6"] < 0  # FreeCAD's orientation
     assert presse["feature_edges"] > 4000

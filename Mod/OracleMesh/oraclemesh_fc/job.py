@@ -371,9 +371,8 @@ def build_job(mesh_obj):
         features["planar_faces"] = True
 
     criteria = {"default": default, "materials": per_material}
-    fineness = str(getattr(mesh_obj, "Fineness", "off"))
-    if fineness != "off":
-        criteria["fineness"] = fineness.replace(" ", "_")
+    # Always sent: the core's unset value is "moderate", and "off" must reach it as "off".
+    criteria["fineness"] = str(getattr(mesh_obj, "Fineness", "off")).replace(" ", "_")
     job = {
         "inputs": job_inputs,
         "criteria": criteria,

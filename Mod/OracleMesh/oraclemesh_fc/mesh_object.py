@@ -19,13 +19,16 @@ from .input_checks import cut_warnings
 from .job import MeshInputError, build_job, input_kinds, name_polylines, priority_entries
 from .proxy import StatelessProxy
 from .runner import import_core, run_job
-from .sizes import FINENESS_NAMES
+from .sizes import DEFAULT_FINENESS, FINENESS_NAMES
 
 # The job's "engine" values; the first is the default of new mesh objects. Rule Set T is the
 # default since it beat Mesh_3 on the refine benchmark (issue 7).
 ENGINE_NAMES = ("thesis", "cgal")
-# What documents saved before the Engine property existed were meshed with.
-ENGINE_OF_OLD_DOCUMENTS = "cgal"
+# Enumerations whose default is not their first choice.
+ENUMERATION_DEFAULTS = {"Fineness": DEFAULT_FINENESS}
+# What documents saved before these properties existed were meshed with: restored, they keep
+# meshing as they did (new mesh objects get the defaults above).
+VALUES_OF_OLD_DOCUMENTS = {"Engine": "cgal", "Fineness": "off"}
 
 TYPE = ccx_interfaces.MESH_TYPE
 
@@ -68,7 +71,7 @@ PROPERTIES = (
     ("App::PropertyEnumeration", "Fineness", "Sizes",
      "Sizes from the geometry below the sizes above: segments per circle on curved faces "
      "(6 / 8 / 12 / 18 / 24 from very coarse to very fine), two segments per short sharp edge, "
-     "walls several sizes thick, graded; off (the default) = the sizes above alone",
+     "walls several sizes thick, graded (moderate by default); off = the sizes above alone",
      list(FINENESS_NAMES)),
     ("App::PropertyLength", "ContactTolerance", "Mesh",
      "Parts closer than this touch and are bonded; parts farther apart stay apart (with a "
@@ -155,17 +158,18 @@ class OracleMeshProxy(StatelessProxy):
             obj.addProperty(ptype, name, group, tip)
             if default is not None:
                 setattr(obj, name, default)
+            if name in ENUMERATION_DEFAULTS:
+                setattr(obj, name, ENUMERATION_DEFAULTS[name])
             if name in READ_ONLY:
                 obj.setEditorMode(name, 1)
             if name in HIDDEN:
                 obj.setEditorMode(name, 2)
 
     def onDocumentRestored(self, obj):
-        had_engine = hasattr(obj, "Engine")
+        missing = [name for name in VALUES_OF_OLD_DOCUMENTS if not hasattr(obj, name)]
         self.add_properties(obj)
-        if not had_engine:
-            # Saved before engines could be chosen: keep meshing it as it was meshed then.
-            obj.Engine = ENGINE_OF_OLD_DOCUMENTS
+        for name in missing:
+            setattr(obj, name, VALUES_OF_OLD_DOCUMENTS[name])
         # Documents saved by other versions list other choices (or another order): keep the
         # stored engine.
         if list(obj.getEnumerationsOfProperty("Engine")) != list(ENGINE_NAMES):

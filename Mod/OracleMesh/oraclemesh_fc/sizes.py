@@ -11,9 +11,10 @@ import FreeCAD
 from .job import MeshInputError, global_mesh, global_shape, is_mesh_feature
 
 # Sizes from the geometry below the sizes above (the core's criteria.fineness,
-# src/core/sizing/Fineness.h); "off", the default for now, sends none. The panel's automatic
-# values are the caps the field stays under.
+# src/core/sizing/Fineness.h, whose unset value is "moderate"); "off" leaves the sizes above
+# alone. The panel's automatic values are the caps the field stays under.
 FINENESS_NAMES = ("off", "very coarse", "coarse", "moderate", "fine", "very fine")
+DEFAULT_FINENESS = "moderate"
 
 # cell_size = diagonal / CELL_SIZE_DIVISOR when unset.
 CELL_SIZE_DIVISOR = 15.0

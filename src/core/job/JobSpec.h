@@ -80,8 +80,8 @@ struct JobSpec {
   std::vector<InputSpec> inputs;  // highest priority first
   CriteriaSpec default_criteria;
   std::map<int, CriteriaSpec> material_criteria;
-  // "criteria.fineness": a preset of sizing/Fineness.h, or "off" (constant sizes only, also
-  // when unset: the field is not yet the default, see README "Known limits").
+  // "criteria.fineness": a preset of sizing/Fineness.h, or "off" (constant sizes only); unset
+  // is kDefaultFineness.
   std::optional<std::string> fineness;
   bool features = true;
   double sharp_angle_deg = 30;

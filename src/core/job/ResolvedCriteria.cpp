@@ -114,7 +114,7 @@ CriteriaTable resolveCriteria(const JobSpec& job, double diagonal) {
 }
 
 const FinenessPreset* jobFineness(const JobSpec& job) {
-  return job.fineness ? findFineness(*job.fineness) : nullptr;  // "off" is no preset
+  return findFineness(job.fineness.value_or(kDefaultFineness));  // "off" is no preset
 }
 
 std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,

@@ -18,7 +18,8 @@ class RunControl;
 // below a millionth of the diagonal (naming the key it came from: wrong units).
 CriteriaTable resolveCriteria(const JobSpec& job, double diagonal);
 
-// The fineness preset the job asks for (criteria.fineness); nullptr for "off" or none.
+// The fineness preset the job asks for (criteria.fineness, unset = kDefaultFineness); nullptr
+// for "off".
 const FinenessPreset* jobFineness(const JobSpec& job);
 
 // How many surface sizes a gap between two parts is wide, at every fineness: one keeps the

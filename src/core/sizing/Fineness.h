@@ -18,6 +18,9 @@ inline constexpr FinenessPreset kFinenessPresets[] = {
     {"fine", 18, 0.2, 4},         {"very_fine", 24, 0.1, 6},
 };
 
+// What an unset criteria.fineness means.
+inline constexpr const char* kDefaultFineness = "moderate";
+
 // nullptr for an unknown name.
 inline const FinenessPreset* findFineness(const std::string& name) {
   for (const FinenessPreset& p : kFinenessPresets)

@@ -4,7 +4,8 @@
             solved by CalculiX (FreeCAD's ccxtools, as the solver's task panel runs it)
   import    what a user does: FreeCAD's own STEP import (ImportGui.insert, one compound of 16
             solids), select it, "Mesh selection with OracleMesh" at the defaults but for
-            ContactTolerance 0.6 mm in the property editor (the macro's), Mesh; the
+            ContactTolerance 0.6 mm in the property editor and "very coarse" in the panel's
+            fineness row (the macro's), Mesh; the
             hand-off's facts (tet10 in FreeCAD's orientation, a mid node on every feature
             edge, the core's final check)
   interfaces  each Face group Interface_<a>_<b> of that mesh (curved tri6 area) against
@@ -26,6 +27,7 @@ import traceback
 STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", "/work/shared/data/cad"),
                     "presse_asm.step")
 CONTACT_TOLERANCE = float(os.environ.get("PRESSE_CONTACT_TOLERANCE", "0.6"))  # mm, the macro's
+FINENESS = os.environ.get("PRESSE_FINENESS", "very coarse")  # the macro's
 
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -170,8 +172,12 @@ def check(out):
     out["table_labels"] = [panel.inputs.item(i, 0).text() for i in range(panel.inputs.rowCount())]
     if order:
         panel.element_order.setCurrentIndex(panel.element_order.findData(int(order)))
-    # The property editor's ContactTolerance, as the macro sets it (see there why).
+    # The property editor's ContactTolerance and the panel's fineness, as the macro sets them
+    # (see there why).
     mesh.ContactTolerance = CONTACT_TOLERANCE
+    out["fineness_default"] = panel.fineness.currentData()
+    panel.fineness.setCurrentIndex(panel.fineness.findData(FINENESS))
+    out["fineness_chosen"] = panel.fineness.currentData()
     t0 = time.time()
     out["mesh_ok"] = panel.mesh()
     out["mesh_seconds"] = time.time() - t0

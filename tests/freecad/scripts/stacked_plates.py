@@ -1,7 +1,8 @@
 """Two steel plates 200 x 20 x 5 mm stacked (bottom z 0..5, top z 5..10), both fixed at x = 0,
 100 N down on the top face (params["load"] "pull": 100 N up on the top plate's tip face),
 joined as params["kind"] (optional params["friction"]) by makeMesh(interfaces=...), meshed by
-OracleMesh (params["element_order"], default 2; cell size params["cell_size"], default 5) and solved by CalculiX through FreeCAD's FEM workbench
+OracleMesh (params["element_order"], default 2; cell size params["cell_size"], default 5;
+params["fineness"], default the workbench's) and solved by CalculiX through FreeCAD's FEM workbench
 (ccxtools: FreeCAD's own writer, with the workbench's tie / contact cards).
 
 params["write_only"]: FreeCAD writes the input, nothing is solved. Returns the mean tip
@@ -93,7 +94,7 @@ def check(params):
     size = params.get("cell_size", 5.0)
     mesh = makeMesh(doc, [top, bottom], analysis=analysis, cell_size=size, facet_size=size,
                     element_order=params.get("element_order", 2), seed=0, interfaces=settings,
-                    output={"files": [core_inp]})
+                    fineness=params.get("fineness", "moderate"), output={"files": [core_inp]})
     facts = h.recompute_mesh(doc, mesh)
     if params.get("write_only"):  # FreeCAD's writer only: what the input holds
         from femtools import ccxtools

@@ -7,7 +7,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
-NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges", "ContactTolerance")
+NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges", "ContactTolerance",
+                  "Fineness")
 
 
 def check(params):
@@ -106,6 +107,10 @@ def check(params):
     old = doc.getObject("OldMesh")
     out["restored_properties"] = {n: hasattr(old, n) for n in NEW_PROPERTIES}
     out["restored_engine"] = old.Engine
+    out["restored_fineness"] = old.Fineness
+    new = makeMesh(doc, [doc.getObject("Block")], name="NewMesh")
+    out["new_mesh_fineness"] = new.Fineness
+    doc.removeObject(new.Name)
     stored = doc.getObject("StoredCgal")
     out["stored_engine"] = [stored.Engine, list(stored.getEnumerationsOfProperty("Engine"))]
     out["restored_junctions"] = old.Junctions
