@@ -76,13 +76,12 @@ TEST(SizeFieldModerate, ASmallPinInALargeBlockKeepsItsVolumeAndTwelveSegmentsAro
   EXPECT_FALSE(coarse.report.at("criteria").contains("size_field"));
 }
 
-// 20 x 20 x 1: three sizes through the wall ("moderate"). A tetrahedron with corners on both
-// faces would span the wall in one layer.
-TEST(SizeFieldModerate, AThinPlateGetsMoreThanOneLayerThroughItsThickness) {
-  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(20, 20, 1).Shape();
+// Issue 16's plate, 100 x 100 x 1, with no size and no fineness in the job: three sizes through
+// the wall ("moderate"). A tetrahedron with corners on both faces would span it in one layer.
+TEST(SizeFieldModerate, AThinPlateGetsMoreThanOneLayerThroughItsThicknessAtTheDefault) {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(100, 100, 1).Shape();
   const json job = {{"inputs", {{{"name", "plate"}, {"brep", test::brepText(plate)}, {"material", 1}}}},
                     {"features", {{"sharp_angle_deg", 30}}},
-                    {"criteria", {{"fineness", "moderate"}}},
                     {"element_order", 1}};
   const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
   int64_t spanning = 0;
@@ -95,23 +94,27 @@ TEST(SizeFieldModerate, AThinPlateGetsMoreThanOneLayerThroughItsThickness) {
     spanning += bottom && top;
   }
   std::cout << "[ figures  ] plate: " << r.mesh.tets.size() << " tets, " << spanning << " spanning the wall\n";
+  EXPECT_EQ(r.report.at("criteria").at("fineness"), "moderate");
   EXPECT_EQ(spanning, 0);
-  EXPECT_NEAR(test::volumePerMaterial(r.mesh).at(1), 400, 400 * 1e-6);
+  EXPECT_NEAR(test::volumePerMaterial(r.mesh).at(1), 1e4, 1e4 * 1e-6);
 }
 
-// 100 x 100 x 0.01: three sizes through the wall would need billions of vertices.
-TEST(SizeFieldModerate, AWallTooThinForTheVertexLimitIsRefusedUpFront) {
-  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(100, 100, 0.01).Shape();
-  const json job = {{"inputs", {{{"name", "foil"}, {"brep", test::brepText(plate)}, {"material", 1}}}},
-                    {"criteria", {{"fineness", "moderate"}}}};
-  try {
-    runJob(JobSpec::fromJson(job, ""), RunControl());
-    FAIL() << "a 0.01 mm foil at fineness moderate was meshed";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("input 'foil'"), std::string::npos) << message;
-    EXPECT_NE(message.find("limits.max_vertices"), std::string::npos) << message;
-    EXPECT_NE(message.find("from thickness"), std::string::npos) << message;
+// 100 x 100 x 0.1 and x 0.01 at the default: three sizes through the wall would need tens of
+// millions or billions of vertices; the job stops before meshing and says so.
+TEST(SizeFieldModerate, AWallTooThinForTheVertexLimitIsRefusedUpFrontAtTheDefault) {
+  for (const double thickness : {0.1, 0.01}) {
+    const TopoDS_Shape plate = BRepPrimAPI_MakeBox(100, 100, thickness).Shape();
+    const json job = {{"inputs", {{{"name", "foil"}, {"brep", test::brepText(plate)}, {"material", 1}}}}};
+    try {
+      runJob(JobSpec::fromJson(job, ""), RunControl());
+      ADD_FAILURE() << "a " << thickness << " mm foil at the default fineness was meshed";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("input 'foil'"), std::string::npos) << message;
+      EXPECT_NE(message.find("limits.max_vertices"), std::string::npos) << message;
+      EXPECT_NE(message.find("from thickness"), std::string::npos) << message;
+      EXPECT_NE(message.find("criteria.fineness moderate"), std::string::npos) << message;
+    }
   }
 }
 
