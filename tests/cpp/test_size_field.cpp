@@ -1,6 +1,6 @@
 // The sizing field (issue 16 item 1): the graded field against a brute-force minimum, and the
-// sizes B-rep geometry asks for (curvature, short edges, wall thickness) against the
-// dimensions of hand-made solids.
+// sizes B-rep geometry, triangle surfaces and voxel images ask for (curvature, short edges,
+// wall thickness) against the dimensions of hand-made solids.
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -17,8 +17,12 @@
 #include "RunControl.h"
 #include "domain/BrepSolid.h"
 #include "domain/HierarchicalOracle.h"
+#include "domain/LabeledImage.h"
+#include "domain/TriangleSurface.h"
+#include "sizing/DiscreteSurface.h"
 #include "sizing/GeometrySizes.h"
 #include "sizing/SizeField.h"
+#include "discrete_shapes.h"
 
 namespace oraclemesh {
 namespace {
@@ -137,6 +141,76 @@ TEST(GeometrySizes, OnlySharpEdgesAskForSegments) {
   EXPECT_NEAR(smallest(samples, SizeReason::ShortEdge), rim / 2, 1e-6 * rim);  // not the 40 mm seam
   EXPECT_TRUE(std::isinf(smallest(samplesOf(BRepPrimAPI_MakeBox(10, 10, 1).Shape(), 0), SizeReason::ShortEdge)))
       << "sharp edges off: no edge sizes";
+}
+
+// Triangle surfaces and voxel images: the same sizes from their discrete surfaces.
+
+std::vector<SizeSample> samplesOf(const SourcePtr& source, double sharpAngle = 30) {
+  const HierarchicalOracle oracle({{source, Role::Material, 1}});
+  const FinenessPreset* moderate = findFineness("moderate");
+  return geometrySizes(oracle, moderate, moderate->sizes_per_thickness, sharpAngle, 1e9, 1e-6 * oracle.diagonal(),
+                       1e18, RunControl())
+      .samples;
+}
+
+SourcePtr surfaceOf(const test::Triangles& t, const std::string& name) {
+  return TriangleSurface::fromTriangles(t.points, t.triangles, name);
+}
+
+TEST(DiscreteSizes, ATriangleSurfaceCylinderAsksForTwelveSegmentsAroundItsRadius) {
+  const double radius = 5;
+  const auto samples = samplesOf(surfaceOf(test::tessellatedCylinder({0, 0, 0}, radius, 40, 48), "cylinder"));
+  const double expected = 2 * radius * std::sin(M_PI / 12) / std::sqrt(3.0);
+  EXPECT_NEAR(smallest(samples, SizeReason::Curvature), expected, 0.01 * expected);
+  EXPECT_NEAR(largest(samples, SizeReason::Curvature), expected, 0.01 * expected);
+  // The rims are 90 degree edges, sharp: no curvature there, whatever the sharp angle of the job
+  // (none: the job's default one tells edges from curves).
+  EXPECT_NEAR(smallest(samplesOf(surfaceOf(test::tessellatedCylinder({0, 0, 0}, radius, 40, 48), "cylinder"), 0), SizeReason::Curvature), expected,
+              0.01 * expected);
+}
+
+TEST(DiscreteSizes, ATriangleSurfacePlateAsksForThreeSizesThroughItsThickness) {
+  const auto samples = samplesOf(surfaceOf(test::triangleBox({0, 0, 0}, 100, 100, 1), "plate"));
+  EXPECT_NEAR(smallest(samples, SizeReason::Thickness), 1.0 / 3, 1e-6);
+  EXPECT_NEAR(largest(samples, SizeReason::Thickness), 100.0 / 3, 1e-6);
+  EXPECT_TRUE(std::isinf(smallest(samples, SizeReason::Curvature)));  // flat faces, sharp edges
+}
+
+// A ball of radius 12 voxels and a slab 3 voxels thick, labels 1 and 2 of one image: the ball's
+// smoothed voxel faces ask for about what a sphere of its radius does, the slab for a third of
+// its thickness.
+TEST(DiscreteSizes, AVoxelBallAndSlabAskForTheirRadiusAndThickness) {
+  const std::array<int64_t, 3> size{40, 40, 60};
+  const double voxel = 0.5, radius = 12 * voxel;
+  const Point3 centre{20 * voxel, 20 * voxel, 20 * voxel};
+  std::vector<int32_t> labels(size[0] * size[1] * size[2], 0);
+  for (int64_t k = 0, v = 0; k < size[2]; ++k)
+    for (int64_t j = 0; j < size[1]; ++j)
+      for (int64_t i = 0; i < size[0]; ++i, ++v) {
+        if (distance(Point3{i * voxel, j * voxel, k * voxel}, centre) <= radius) labels[v] = 1;
+        if (k >= 50 && k < 53 && i >= 5 && i < 35 && j >= 5 && j < 35) labels[v] = 2;
+      }
+  const auto image = std::make_shared<const LabeledImage>(size, Point3{voxel, voxel, voxel}, Point3{0, 0, 0},
+                                                          std::move(labels), "test image");
+  const auto ball = samplesOf(std::make_shared<ImageLabelRegion>(image, 1, "ball"));
+  const double expected = 2 * radius * std::sin(M_PI / 12) / std::sqrt(3.0);
+  std::vector<double> curvature;
+  for (const SizeSample& s : ball)
+    if (s.reason == SizeReason::Curvature) curvature.push_back(s.size);
+  ASSERT_FALSE(curvature.empty());
+  std::sort(curvature.begin(), curvature.end());
+  const double median = curvature[curvature.size() / 2], low = curvature[curvature.size() / 10];
+  std::cout << "[ figures  ] voxel ball: curvature sizes " << curvature.front() << " .. " << curvature.back()
+            << ", 10th percentile " << low << ", median " << median << ", a sphere's " << expected << "\n";
+  // Noise at the voxels' scale errs on the small side, within reason.
+  EXPECT_GT(median, 0.7 * expected);
+  EXPECT_LT(median, 1.1 * expected);
+  EXPECT_GT(low, 0.5 * expected);
+  EXPECT_GE(curvature.front(), voxel);  // the image resolves nothing finer
+  EXPECT_TRUE(std::isinf(smallest(ball, SizeReason::Thickness)) || smallest(ball, SizeReason::Thickness) > radius / 2);
+
+  const auto slab = samplesOf(std::make_shared<ImageLabelRegion>(image, 2, "slab"));
+  EXPECT_NEAR(smallest(slab, SizeReason::Thickness), 3 * voxel / 3, 0.05 * voxel);
 }
 
 }  // namespace

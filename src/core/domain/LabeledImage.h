@@ -81,6 +81,7 @@ class ImageLabelRegion : public Source {
 
   const std::string& name() const override { return name_; }
   int32_t label() const { return label_; }
+  const LabeledImage& image() const { return *image_; }
   Bbox bbox() const override { return bbox_; }
   bool inside(const Point3& p) const override;
   // Nearest boundary point; patch = the label across the boundary (0 = background).

@@ -266,6 +266,26 @@ Bbox TriangleSurface::bbox() const { return impl_->box; }
 double TriangleSurface::volume() const { return impl_->volume; }
 size_t TriangleSurface::triangleCount() const { return impl_->mesh.number_of_faces(); }
 
+void TriangleSurface::outwardTriangles(std::vector<Point3>& points,
+                                       std::vector<std::array<int64_t, 3>>& triangles) const {
+  const Mesh& mesh = impl_->mesh;
+  std::vector<int64_t> index(mesh.number_of_vertices() + mesh.number_of_removed_vertices(), -1);
+  points.clear();
+  triangles.clear();
+  for (auto v : mesh.vertices()) {
+    index[v] = static_cast<int64_t>(points.size());
+    const KPoint& p = mesh.point(v);
+    points.push_back({p.x(), p.y(), p.z()});
+  }
+  for (auto f : mesh.faces()) {
+    std::array<int64_t, 3> corners{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      if (k < 3) corners[k++] = index[v];
+    triangles.push_back(corners);
+  }
+}
+
 bool TriangleSurface::inside(const Point3& p) const {
   return (*impl_->side)(KPoint(p[0], p[1], p[2])) != CGAL::ON_UNBOUNDED_SIDE;
 }

@@ -37,6 +37,8 @@ class TriangleSurface : public Source {
   std::vector<BoundaryCrossing> crossings(const Point3& a, const Point3& b) const override;
   double volume() const override;
   size_t triangleCount() const;
+  // The validated surface: its points and its triangles (0-based, outward).
+  void outwardTriangles(std::vector<Point3>& points, std::vector<std::array<int64_t, 3>>& triangles) const;
 
  private:
   TriangleSurface();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "Error.h"
+#include "sizing/DiscreteSurface.h"
 #include "sizing/GeometrySizes.h"
 
 namespace oraclemesh {
@@ -120,8 +121,10 @@ const FinenessPreset* jobFineness(const JobSpec& job) {
 std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, const HierarchicalOracle& oracle,
                                      double contactTolerance, const RunControl& control) {
   const FinenessPreset* fineness = jobFineness(job);
-  const auto isBrep = [](const OracleEntry& e) { return e.source->brepTopology() != nullptr; };
-  if (!fineness && std::count_if(oracle.entries().begin(), oracle.entries().end(), isBrep) < 2) return {};
+  const auto hasSurface = [](const OracleEntry& e) {
+    return e.source->brepTopology() != nullptr || hasDiscreteSurface(*e.source);
+  };
+  if (!fineness && std::count_if(oracle.entries().begin(), oracle.entries().end(), hasSurface) < 2) return {};
   const double sharpAngle = job.features ? job.sharp_angle_deg : 0;
   // Gaps in every material: the largest cell size any has.
   const double cap = table.strictest(&MaterialCriteria::cell_size, false);

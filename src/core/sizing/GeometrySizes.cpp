@@ -19,12 +19,14 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "RunControl.h"
 #include "domain/BrepSolid.h"
 #include "domain/BrepTopology.h"
 #include "domain/OpenCascadeWork.h"
 #include "features/BrepSharpEdges.h"
+#include "sizing/DiscreteSurface.h"
 
 namespace oraclemesh {
 
@@ -37,10 +39,15 @@ using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The sharp angle a discrete surface's curvature uses when the job asks for no sharp edges
+// (the job's default sharp angle).
+constexpr double kDiscreteSharpAngleDeg = 30;
+
 Point3 toPoint3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
 // One face triangle in model coordinates, its outward unit normal and area, the face it
-// belongs to and its corners' surface parameters (when the triangulation has them).
+// belongs to and its corners' surface parameters (when the triangulation has them); for a
+// discrete surface, the triangle itself (face -1).
 struct FaceTriangle {
   Point3 corners[3];
   gp_Pnt2d uv[3];
@@ -49,6 +56,16 @@ struct FaceTriangle {
   Point3 normal;
   double area = 0;
 };
+
+// Sets t's unit normal and area from its corners; false for a degenerate triangle.
+bool withNormalAndArea(FaceTriangle& t) {
+  const Point3 normal = cross(t.corners[1] - t.corners[0], t.corners[2] - t.corners[0]);
+  const double len = norm(normal);
+  if (!(len > 0)) return false;
+  t.normal = (1 / len) * normal;
+  t.area = len / 2;
+  return true;
+}
 
 // The triangles of every face of `solid` (outward by the face's orientation); faces without a
 // triangulation add none.
@@ -71,13 +88,22 @@ std::vector<FaceTriangle> faceTriangles(const BrepTopology& solid) {
         ft.corners[k] = toPoint3(tri->Node(n[k]).Transformed(loc));
         if (ft.hasUv) ft.uv[k] = tri->UVNode(n[k]);
       }
-      const Point3 normal = cross(ft.corners[1] - ft.corners[0], ft.corners[2] - ft.corners[0]);
-      const double len = norm(normal);
-      if (!(len > 0)) continue;
-      ft.normal = (1 / len) * normal;
-      ft.area = len / 2;
-      out.push_back(ft);
+      if (withNormalAndArea(ft)) out.push_back(ft);
     }
+  }
+  return out;
+}
+
+// The triangles of a discrete surface (face -1, no uv); degenerate ones add none. `kept`
+// gets the index in `surface` of each.
+std::vector<FaceTriangle> faceTriangles(const DiscreteSurface& surface, std::vector<size_t>& kept) {
+  std::vector<FaceTriangle> out;
+  for (size_t i = 0; i < surface.triangles.size(); ++i) {
+    FaceTriangle ft;
+    for (int k = 0; k < 3; ++k) ft.corners[k] = surface.points[surface.triangles[i][k]];
+    if (!withNormalAndArea(ft)) continue;
+    out.push_back(ft);
+    kept.push_back(i);
   }
   return out;
 }
@@ -120,16 +146,13 @@ constexpr double kFacingWithinDeg = 15;
 // kFacingWithinDeg.
 bool facing(const Point3& a, const Point3& b) { return dot(a, b) < -std::cos(kFacingWithinDeg * kPi / 180); }
 
-// Whether the exact faces at p (on triangle a of surface sa) and at q (on triangle b of
-// surface sb) face each other, as a wall's or a gap's two sides do, not as a wedge's; true
-// where an exact normal is unknown. Opposite triangles need no exact normals.
-bool faceEachOther(const BRepAdaptor_Surface& sa, const FaceTriangle& a, const Point3& p, const BRepAdaptor_Surface& sb,
-                   const FaceTriangle& b, const Point3& q) {
-  if (dot(a.normal, b.normal) < -0.9999) return true;
-  Point3 n[2];
-  if (!exactNormal(sa, a, p, n[0]) || !exactNormal(sb, b, q, n[1])) return true;
-  return facing(n[0], n[1]);
-}
+class FaceSampler;
+
+// Whether the faces at p (on triangle a of sampler sa) and at q (on triangle b of sb) face
+// each other, as a wall's or a gap's two sides do, not as a wedge's; true where a normal is
+// unknown. Opposite triangles need no exact normals.
+bool faceEachOther(const FaceSampler& sa, const FaceTriangle& a, const Point3& p, const FaceSampler& sb,
+                   const FaceTriangle& b, const Point3& q);
 
 // The ball radius of triangles with N of their edges around a full circle of radius 1.
 double sizePerRadius(int segmentsPerCircle) { return 2 * std::sin(kPi / segmentsPerCircle) / std::sqrt(3.0); }
@@ -174,19 +197,61 @@ class FaceSampler {
   // Without a fineness, the triangles ask for the cap alone (only gaps lower it).
   FaceSampler(const BrepTopology& solid, const FinenessPreset* fineness, double diagonal, double cap,
               const RunControl& control)
-      : solid_(solid),
+      : topology_(&solid),
+        name_(solid.name()),
         triangles_(faceTriangles(solid)),
         fromShape_(fineness != nullptr),
         sizeOverRadius_(fineness ? sizePerRadius(fineness->segments_per_circle) : 0),
         sizesPerThickness_(fineness ? fineness->sizes_per_thickness : 0),
         offset_(1e-7 * diagonal) {
+    surfaces_.resize(solid.faceCount());
+    planar_.assign(solid.faceCount(), false);
+    measure(cap, control);
+  }
+
+  // The same over a discrete surface (an input without exact faces named `name`): the
+  // curvature is the surface's own at its triangles' corners (sizing/DiscreteSurface.h), interpolated
+  // across each triangle, and asks for nothing under the surface's resolution.
+  FaceSampler(const std::string& name, const DiscreteSurface& surface, double sharpAngleDeg,
+              const FinenessPreset* fineness, double diagonal, double cap, const RunControl& control)
+      : name_(name),
+        fromShape_(fineness != nullptr),
+        sizeOverRadius_(fineness ? sizePerRadius(fineness->segments_per_circle) : 0),
+        sizesPerThickness_(fineness ? fineness->sizes_per_thickness : 0),
+        offset_(1e-7 * diagonal),
+        resolution_(surface.resolution) {
+    std::vector<size_t> kept;
+    triangles_ = faceTriangles(surface, kept);
+    if (fromShape_) {
+      const std::vector<std::array<double, 3>> curvatures = cornerCurvatures(surface, sharpAngleDeg);
+      for (size_t i : kept) cornerCurvatures_.push_back(curvatures[i]);
+    }
+    measure(cap, control);
+  }
+
+  // The solid's faces and edges; nullptr for a discrete surface.
+  const BrepTopology* topology() const { return topology_; }
+  const std::string& name() const { return name_; }
+  const std::vector<FaceTriangle>& triangles() const { return triangles_; }
+
+  // The unit normal at p of the face under triangle t: the exact face's (nullopt where it
+  // is unknown), a discrete surface's triangle's own.
+  std::optional<Point3> normalAt(const FaceTriangle& t, const Point3& p) const {
+    if (!topology_) return t.normal;
+    Point3 n;
+    if (exactNormal(surface(t.face), t, p, n)) return n;
+    return std::nullopt;
+  }
+
+ private:
+  // The sizes each triangle asks for (curvature, thickness), the tree the thickness rays
+  // need, and the surface vertex estimate.
+  void measure(double cap, const RunControl& control) {
     for (const FaceTriangle& t : triangles_)
       cgalTriangles_.emplace_back(K::Point_3(t.corners[0][0], t.corners[0][1], t.corners[0][2]),
                                   K::Point_3(t.corners[1][0], t.corners[1][1], t.corners[1][2]),
                                   K::Point_3(t.corners[2][0], t.corners[2][1], t.corners[2][2]));
     if (!cgalTriangles_.empty()) tree_ = std::make_unique<TriangleTree>(cgalTriangles_.begin(), cgalTriangles_.end());
-    surfaces_.resize(solid.faceCount());
-    planar_.assign(solid.faceCount(), false);
     local_.resize(triangles_.size());
     smallest_.size = cap;
     for (size_t i = 0; i < triangles_.size(); ++i) {
@@ -195,7 +260,7 @@ class FaceSampler {
       double local = cap;
       SizeReason reason = SizeReason::Curvature;
       if (fromShape_) {
-        for (int k = 0; k < 3; ++k) local = std::min(local, curvatureSize(t, {k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0}));
+        for (int k = 0; k < 3; ++k) local = std::min(local, curvatureSize(i, {k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0}));
         const double thickness = thicknessSize(t, i, centroid(t));
         if (thickness < local) {
           local = thickness;
@@ -210,9 +275,7 @@ class FaceSampler {
     }
   }
 
-  const BrepTopology& solid() const { return solid_; }
-  const std::vector<FaceTriangle>& triangles() const { return triangles_; }
-
+ public:
   // Lowers each triangle's size to what the gap outside its centre asks for (`gapSize`:
   // triangle, point -> size, infinity for none), so the sampling and the estimate see it.
   template <class GapSize>
@@ -235,7 +298,7 @@ class FaceSampler {
   const BRepAdaptor_Surface& surface(int face) const {
     auto& s = surfaces_[face];
     if (!s) {
-      s = std::make_unique<BRepAdaptor_Surface>(solid_.face(face), false);
+      s = std::make_unique<BRepAdaptor_Surface>(topology_->face(face), false);
       planar_[face] = s->GetType() == GeomAbs_Plane;
     }
     return *s;
@@ -259,7 +322,7 @@ class FaceSampler {
           const double wa = double(a) / steps, wb = double(b) / steps;
           const Point3 p = wa * t.corners[0] + wb * t.corners[1] + (1 - wa - wb) * t.corners[2];
           if (fromShape_) {
-            const double curvature = curvatureSize(t, {wa, wb});
+            const double curvature = curvatureSize(i, {wa, wb});
             if (std::isfinite(curvature)) shape.push_back({p, curvature, SizeReason::Curvature});
             const double thickness = thicknessSize(t, i, p);
             if (std::isfinite(thickness)) shape.push_back({p, thickness, SizeReason::Thickness});
@@ -278,7 +341,14 @@ class FaceSampler {
   static constexpr double kSpacingPerSize = 1.33;
 
   // Infinity on planes and where the curvature is not defined.
-  double curvatureSize(const FaceTriangle& t, std::array<double, 2> w) {
+  double curvatureSize(size_t index, std::array<double, 2> w) const {
+    const FaceTriangle& t = triangles_[index];
+    if (!topology_) {
+      const std::array<double, 3>& c = cornerCurvatures_[index];
+      const double k = w[0] * c[0] + w[1] * c[1] + (1 - w[0] - w[1]) * c[2];
+      return k > 0 && std::isfinite(k) ? std::max(sizeOverRadius_ / k, resolution_)
+                                       : std::numeric_limits<double>::infinity();
+    }
     if (!t.hasUv) return std::numeric_limits<double>::infinity();
     const BRepAdaptor_Surface& surface = this->surface(t.face);
     if (planar_[t.face]) return std::numeric_limits<double>::infinity();
@@ -305,12 +375,13 @@ class FaceSampler {
     const size_t j = static_cast<size_t>(hit->second - cgalTriangles_.cbegin());
     if (j == index || dot(triangles_[j].normal, t.normal) > -0.2) return std::numeric_limits<double>::infinity();
     const FaceTriangle& across = triangles_[j];
-    if (!faceEachOther(surface(t.face), t, p, surface(across.face), across, Point3{q->x(), q->y(), q->z()}))
+    if (!faceEachOther(*this, t, p, *this, across, Point3{q->x(), q->y(), q->z()}))
       return std::numeric_limits<double>::infinity();
     return (std::sqrt(CGAL::squared_distance(*q, ray.source())) + offset_) / sizesPerThickness_;
   }
 
-  const BrepTopology& solid_;
+  const BrepTopology* topology_ = nullptr;
+  std::string name_;
   std::vector<FaceTriangle> triangles_;
   Triangles cgalTriangles_;
   std::unique_ptr<TriangleTree> tree_;
@@ -319,10 +390,19 @@ class FaceSampler {
   mutable std::vector<bool> planar_;
   bool fromShape_;  // curvature and thickness count (a fineness is set)
   double sizeOverRadius_, sizesPerThickness_, offset_;
+  double resolution_ = 0;  // a discrete surface's: no curvature size below it
+  std::vector<std::array<double, 3>> cornerCurvatures_;  // a discrete surface's, per triangle
   std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
   double surfaceVertices_ = 0;
   SizeSample smallest_;
 };
+
+bool faceEachOther(const FaceSampler& sa, const FaceTriangle& a, const Point3& p, const FaceSampler& sb,
+                   const FaceTriangle& b, const Point3& q) {
+  if (dot(a.normal, b.normal) < -0.9999) return true;
+  const std::optional<Point3> na = sa.normalAt(a, p), nb = sb.normalAt(b, q);
+  return !na || !nb || facing(*na, *nb);
+}
 
 // Gaps between inputs: from a face sample outwards along the normal to the first face of
 // another input facing back. A gap of width w asks for w / sizesPerGap on both sides,
@@ -347,10 +427,13 @@ class GapRays {
     size_t other = 0;  // the sampler across the gap
   };
 
-  GapRays(const std::vector<FaceSampler>& samplers, const std::vector<const Source*>& sources, double diagonal,
-          double sizesPerGap, double cap, double contactTolerance)
+  // `deviations`: per sampler, how far its triangles may lie from its input's boundary.
+  GapRays(const std::vector<FaceSampler>& samplers, const std::vector<const Source*>& sources,
+          const std::vector<double>& deviations, double diagonal, double sizesPerGap, double cap,
+          double contactTolerance)
       : samplers_(samplers),
         sources_(sources),
+        deviations_(deviations),
         offset_(1e-7 * diagonal),
         contactTolerance_(contactTolerance),
         sizesPerGap_(sizesPerGap),
@@ -363,11 +446,6 @@ class GapRays {
                                 K::Point_3(t.corners[2][0], t.corners[2][1], t.corners[2][2]));
         owners_.push_back({s, i});
       }
-    for (const Source* source : sources) {
-      const auto* brep = dynamic_cast<const BrepSolid*>(source);
-      deviations_.push_back(brep && brep->proxyInfo().usable ? brep->proxyInfo().deflection
-                                                             : std::numeric_limits<double>::infinity());
-    }
     if (samplers.size() > 1 && !triangles_.empty())
       tree_ = std::make_unique<TriangleTree>(triangles_.cbegin(), triangles_.cend());
   }
@@ -392,7 +470,7 @@ class GapRays {
     const double band = deviations_[owner] + deviations_[other];
     if (along + band <= contactTolerance_) return {};
     const Point3 hitPoint{q->x(), q->y(), q->z()};
-    if (!faceEachOther(samplers_[owner].surface(t.face), t, p, samplers_[other].surface(facing.face), facing, hitPoint))
+    if (!faceEachOther(samplers_[owner], t, p, samplers_[other], facing, hitPoint))
       return {};
     double width = along;
     if (!(along - band > contactTolerance_)) {
@@ -415,7 +493,7 @@ class GapRays {
   const std::vector<const Source*>& sources_;
   Triangles triangles_;
   std::vector<std::pair<size_t, size_t>> owners_;  // per triangle: sampler, triangle there
-  std::vector<double> deviations_;                 // per sampler: triangles to exact faces, at most
+  std::vector<double> deviations_;                 // per sampler: its triangles to its input, at most
   std::unique_ptr<TriangleTree> tree_;
   double offset_, contactTolerance_, sizesPerGap_, cap_;
 };
@@ -429,22 +507,40 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
   std::vector<FaceSampler> samplers;
   std::vector<const Source*> sources;  // per sampler
   std::vector<int> entries;            // per sampler: its oracle entry
-  const BrepTopology* current = nullptr;  // the solid being measured, for the message
+  std::vector<double> deviations;      // per sampler: its triangles from its input's boundary
+  // Where the job has no sharp edges, discrete surfaces still tell an edge from a curve.
+  const double discreteSharpAngle = sharpAngleDeg > 0 ? sharpAngleDeg : kDiscreteSharpAngleDeg;
+  const std::string* current = nullptr;  // the input being measured, for the message
+  // OpenCASCADE's calls are marked for the hard deadline's watchdog; a discrete surface makes none.
+  const auto openCascadeWork = [](const FaceSampler& sampler, std::optional<OpenCascadeWork>& scope) {
+    if (sampler.topology()) scope.emplace(sampler.name());
+  };
   try {
     double largest = -1;
     for (size_t e = 0; e < oracle.entries().size(); ++e) {
-      current = oracle.entries()[e].source->brepTopology();
-      if (!current) continue;
-      const OpenCascadeWork working(current->name());
-      samplers.emplace_back(*current, fineness, oracle.diagonal(), cap, control);
-      sources.push_back(oracle.entries()[e].source.get());
+      const Source& source = *oracle.entries()[e].source;
+      current = &source.name();
+      if (const BrepTopology* solid = source.brepTopology()) {
+        const OpenCascadeWork working(solid->name());
+        samplers.emplace_back(*solid, fineness, oracle.diagonal(), cap, control);
+        const auto* brep = dynamic_cast<const BrepSolid*>(&source);
+        deviations.push_back(brep && brep->proxyInfo().usable ? brep->proxyInfo().deflection
+                                                              : std::numeric_limits<double>::infinity());
+      } else {
+        const DiscreteSurface surface = discreteSurfaceOf(source);
+        if (surface.triangles.empty()) continue;
+        samplers.emplace_back(source.name(), surface, discreteSharpAngle, fineness, oracle.diagonal(), cap, control);
+        deviations.push_back(surface.deviation);
+      }
+      sources.push_back(&source);
       entries.push_back(static_cast<int>(e));
     }
-    const GapRays gaps(samplers, sources, oracle.diagonal(), sizesPerGap, cap, contactTolerance);
+    const GapRays gaps(samplers, sources, deviations, oracle.diagonal(), sizesPerGap, cap, contactTolerance);
     std::map<std::pair<int, int>, PartGap> narrowest;  // per pair of entries
     for (size_t s = 0; s < samplers.size(); ++s) {
-      current = &samplers[s].solid();
-      const OpenCascadeWork working(current->name());
+      current = &samplers[s].name();
+      std::optional<OpenCascadeWork> working;
+      openCascadeWork(samplers[s], working);
       samplers[s].lowerToGaps(
           [&](const FaceTriangle& t, const Point3& p) {
             const GapRays::Gap gap = gaps.at(s, t, p);
@@ -469,15 +565,17 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
     if (!(sizes.surface_vertices <= vertexLimit)) return sizes;
     for (size_t s = 0; s < samplers.size(); ++s) {
       FaceSampler& sampler = samplers[s];
-      current = &sampler.solid();
-      const OpenCascadeWork working(current->name());
+      current = &sampler.name();
+      std::optional<OpenCascadeWork> working;
+      openCascadeWork(sampler, working);
       sampler.addSamples(
           sizes.samples, sizes.gap_samples, [&](const FaceTriangle& t, const Point3& p) { return gaps.at(s, t, p).size; },
           control);
-      if (fineness && sharpAngleDeg > 0) addShortEdgeSamples(sampler.solid(), sharpAngleDeg, sizes.samples, control);
+      if (fineness && sharpAngleDeg > 0 && sampler.topology())
+        addShortEdgeSamples(*sampler.topology(), sharpAngleDeg, sizes.samples, control);
     }
   } catch (const Standard_Failure& failure) {
-    throw Error("OpenCASCADE failed while measuring the curvature of input '" + current->name() + "' (" +
+    throw Error("OpenCASCADE failed while measuring the curvature of input '" + *current + "' (" +
                 failure.GetMessageString() + "): check the solid with Part > Check geometry");
   }
   return sizes;

@@ -1,7 +1,7 @@
 #pragma once
 // The size samples the geometry of the inputs asks for (issue 16's sizing field): curvature of
-// the B-rep faces, short sharp edges, and the thickness of walls, each turned into a size by a
-// fineness preset. The samples become a SizeField (sizing/SizeField.h).
+// the B-rep faces and of discrete surfaces, short sharp edges, and the thickness of walls, each
+// turned into a size by a fineness preset. The samples become a SizeField (sizing/SizeField.h).
 #include <vector>
 
 #include "domain/HierarchicalOracle.h"
@@ -36,7 +36,8 @@ struct GeometrySizes {
 // The sizes every B-rep entry's faces and edges ask for, from their tessellation, at most
 // `cap`: with a fineness, curvature, wall thickness and (sharpAngleDeg > 0) short sharp edges;
 // with or without one, gaps to other entries wider than `contactTolerance` (narrower ones
-// touch), w / sizesPerGap for a gap of width w. Triangle surfaces and images add none yet.
+// touch), w / sizesPerGap for a gap of width w. Triangle surfaces and image labels ask for the
+// same from their discrete surfaces (sizing/DiscreteSurface.h), short edges excepted.
 // When the surface estimate passes `vertexLimit`, no samples are made (the caller refuses the
 // job).
 GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPreset* fineness, double sizesPerGap,
