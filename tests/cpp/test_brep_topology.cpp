@@ -3,7 +3,6 @@
 // do; every other kind of source answers nullptr.
 #include <gtest/gtest.h>
 
-#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <TopAbs_ShapeEnum.hxx>
 #include <TopExp.hxx>
@@ -16,13 +15,11 @@
 #include <set>
 #include <vector>
 
-#include "domain/BrepPieces.h"
 #include "domain/BrepSolid.h"
 #include "domain/BrepTopology.h"
 #include "domain/HierarchicalOracle.h"
 #include "domain/Sphere.h"
 #include "domain/TriangleSurface.h"
-#include "occt_checks.h"
 
 namespace oraclemesh {
 namespace {
@@ -122,33 +119,6 @@ TEST(BrepTopology, OracleEntriesAnswerByKind) {
   EXPECT_EQ(first->name(), "box");
   EXPECT_EQ(first->faceCount(), 6);
   EXPECT_EQ(oracle.entries()[1].source->brepTopology(), nullptr);
-}
-
-// A box, and a box with a void (a second shell, which bounds no piece): one piece each.
-TEST(BrepPieces, ABoxWithOrWithoutAVoidIsOnePiece) {
-  EXPECT_EQ(volumePiecesAtMost(*box()), 1);
-  const TopoDS_Shape hollow = BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(10, 10, 10)).Shape(),
-                                              BRepPrimAPI_MakeBox(gp_Pnt(3, 3, 3), gp_Pnt(6, 6, 6)).Shape())
-                                  .Shape();
-  const BrepSolid solid(hollow, "hollow");
-  ASSERT_EQ(solid.faceCount(), 12);
-  EXPECT_EQ(volumePiecesAtMost(solid), 1);
-}
-
-// presse_asm.step's ram (solid 8, VERIN) is a tube standing on a rod whose rim meets the
-// tube's bore along one circle: one OpenCASCADE solid, two volumes, which the mesh's self-check
-// must not call a split part. The other 15 solids are one piece each.
-TEST(BrepPieces, ThePresseRamIsTwoPiecesTouchingAlongACircle) {
-  const auto loaded =
-      BrepSolid::loadFile(test::cadDir() + "/presse_asm.step", "Presse", BrepSolid::Grouping::Separate);
-  ASSERT_EQ(loaded.solids.size(), 16u);
-  for (size_t k = 0; k < loaded.solids.size(); ++k) {
-    const int pieces = volumePiecesAtMost(*loaded.solids[k]);
-    if (k + 1 == 8)
-      EXPECT_GE(pieces, 2);
-    else
-      EXPECT_EQ(pieces, 1) << "Presse#" << k + 1;
-  }
 }
 
 }  // namespace

@@ -6,7 +6,6 @@
 #include <random>
 #include <sstream>
 
-#include "domain/BrepPieces.h"
 #include "domain/BrepTopology.h"
 #include "mesh/Topology.h"
 
@@ -158,7 +157,6 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
   check.contact_tolerance = contact_tolerance > 0 ? contact_tolerance : 1e-6 * oracle.diagonal();
   struct Entries {
     std::vector<std::string> names;
-    int64_t pieces = 0;       // at most, summed over the entries
     bool piecesKnown = true;  // every entry a B-rep solid that nothing higher cuts into
   };
   std::map<int, Entries> ofMaterial;
@@ -172,11 +170,8 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
     c.error_bar += overlap.error_bar;
     Entries& of = ofMaterial[m];
     of.names.push_back(entries[e].source->name());
-    // A B-rep entry's pieces are known from its faces; a cut or a higher entry through it may
-    // split it.
-    const BrepTopology* brep = entries[e].source->brepTopology();
-    of.piecesKnown = of.piecesKnown && brep != nullptr && !overlap.found;
-    if (brep) of.pieces += std::max(1, volumePiecesAtMost(*brep));
+    // A B-rep entry is one connected solid; a cut or a higher entry through it may split it.
+    of.piecesKnown = of.piecesKnown && entries[e].source->brepTopology() != nullptr && !overlap.found;
   }
   const std::map<int, int64_t> components = componentsPerMaterial(mesh);
   for (auto& [m, c] : check.materials) {
@@ -186,7 +181,7 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
     c.mesh_volume = v == volume_per_material.end() ? 0.0 : v->second;
     const auto k = components.find(m);
     c.components = k == components.end() ? 0 : k->second;
-    c.max_components = of.piecesKnown ? of.pieces : -1;
+    c.max_components = of.piecesKnown ? static_cast<int64_t>(of.names.size()) : -1;
     const std::string who = "material " + std::to_string(m) + " (" + c.parts + ")";
     const std::string key = " (criteria.materials.\"" + std::to_string(m) + "\")";
     const std::string finer = "give it a smaller cell_size and facet_size" + key;
@@ -209,7 +204,7 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
                                "facet_distance and facet_size" + key);
     if (c.max_components >= 0 && c.components > c.max_components)
       check.problems.push_back(who + " is meshed as " + std::to_string(c.components) + " separate pieces but is " +
-                               std::to_string(c.max_components) + " piece(s) in the input: parts of it are thinner " +
+                               std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
                                "than its elements; " + finer);
   }
   check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad);
