@@ -8,8 +8,15 @@
 // at the whole assembly's sizes, a few seconds each, show each way it happened; the whole
 // assembly (a minute and more) is meshed once, the user's way, by
 // tests/freecad/test_presse_import.py.
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include <nlohmann/json.hpp>
 
@@ -45,6 +52,55 @@ nlohmann::json assemblySizes() {
   for (const auto& solid : presseSolids().solids) entries.push_back({solid, Role::Material, 1});
   const double cell = HierarchicalOracle(std::move(entries)).diagonal() / 15;
   return {{"default", {{"cell_size", cell}, {"facet_size", cell}, {"facet_distance", cell / 10}, {"edge_size", cell / 2}}}};
+}
+
+// The fewest segments around `solid`'s largest cylindrical face in the mesh of `material`: at
+// 20 heights along its axis, the mesh's boundary triangles on that cylinder with `material` on
+// one side that the plane across the axis cuts (heights where the mesh shows none of the
+// cylinder, inside a part ahead of it in the file, are left out). 0 when no height shows it.
+int fewestSegmentsAround(const TetMesh& mesh, const TopoDS_Shape& solid, int material) {
+  double largest = 0;
+  gp_Cylinder cylinder;
+  for (TopExp_Explorer it(solid, TopAbs_FACE); it.More(); it.Next()) {
+    const BRepAdaptor_Surface surface(TopoDS::Face(it.Current()));
+    if (surface.GetType() != GeomAbs_Cylinder) continue;
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(it.Current(), props);
+    if (props.Mass() > largest) {
+      largest = props.Mass();
+      cylinder = surface.Cylinder();
+    }
+  }
+  if (largest == 0) return 0;
+  const gp_Ax1 axis = cylinder.Axis();
+  const double radius = cylinder.Radius();
+  const auto along = [&](const Point3& p) {
+    return gp_Vec(axis.Location(), gp_Pnt(p[0], p[1], p[2])).Dot(gp_Vec(axis.Direction()));
+  };
+  const auto onCylinder = [&](const Point3& p) {
+    const double a = along(p);
+    const gp_Pnt foot = axis.Location().Translated(a * gp_Vec(axis.Direction()));
+    return std::abs(foot.Distance(gp_Pnt(p[0], p[1], p[2])) - radius) < 1e-6 * radius;
+  };
+  std::vector<std::array<double, 2>> spans;  // per triangle on the cylinder: its axial extent
+  for (const BoundaryTriangle& t : mesh.boundary) {
+    if (t.material_in != material && t.material_out != material) continue;
+    if (!std::all_of(t.v.begin(), t.v.end(), [&](int64_t v) { return onCylinder(mesh.points[v]); })) continue;
+    std::array<double, 3> a{};
+    for (int k = 0; k < 3; ++k) a[k] = along(mesh.points[t.v[k]]);
+    spans.push_back({*std::min_element(a.begin(), a.end()), *std::max_element(a.begin(), a.end())});
+  }
+  if (spans.empty()) return 0;
+  double low = spans[0][0], high = spans[0][1];
+  for (const auto& s : spans) low = std::min(low, s[0]), high = std::max(high, s[1]);
+  int fewest = 0;
+  for (int k = 1; k <= 20; ++k) {
+    const double h = low + (high - low) * (k - 0.5) / 20;
+    const int cut = static_cast<int>(
+        std::count_if(spans.begin(), spans.end(), [&](const std::array<double, 2>& s) { return s[0] < h && h < s[1]; }));
+    if (cut > 0 && (fewest == 0 || cut < fewest)) fewest = cut;
+  }
+  return fewest;
 }
 
 const nlohmann::json& finalCheck(const JobResult& r) { return r.report.at("thesis").at("final_check"); }
@@ -103,6 +159,8 @@ TEST(PresseDefaults, SubsegmentsTheTerminatorStopsAreKeptByBarycentreCells) {
 // 0.5 % of its Boolean-composition volume (the solid less every solid before it in the file),
 // and one piece (the ram's tube and rod share the nodes of the circle they meet along; pieces
 // are not checked where an overlap could split a part).
+// The four guide rods (COLONNE, solids 2 to 5) have at least 12 segments around at
+// every height.
 TEST(PresseDefaults, EveryPartWithinHalfAPercentOfItsVolumeAtTheDefaultFineness) {
   const auto& solids = presseSolids().solids;
   nlohmann::json materials = nlohmann::json::array();
@@ -127,6 +185,11 @@ TEST(PresseDefaults, EveryPartWithinHalfAPercentOfItsVolumeAtTheDefaultFineness)
     EXPECT_NEAR(meshed, expected, 0.005 * expected) << "Presse#" << material;
     const int pieces = check.at("max_components").get<int>();  // -1: an overlap could split it
     EXPECT_LE(check.at("components").get<int>(), pieces < 0 ? 1 : pieces) << "Presse#" << material;
+  }
+  for (int rod = 2; rod <= 5; ++rod) {
+    const int around = fewestSegmentsAround(r.mesh, solids[rod - 1]->shape(), rod);
+    std::cout << "[ figures  ] Presse#" << rod << ": at least " << around << " segments around\n";
+    EXPECT_GE(around, 12) << "Presse#" << rod;
   }
   std::cout << "[ figures  ] presse at the default fineness: " << r.mesh.tets.size() << " tet10, "
             << r.mesh.points.size() << " nodes, seconds " << r.report.at("seconds").dump() << ", problems "
