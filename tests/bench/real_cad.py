@@ -87,7 +87,7 @@ def timed(cmd, timeout, **kw):
 
 
 # ------------------------------------------------------------------ the meshers
-def oraclemesh(path, size, diagonal, tmp, timeout, engine):
+def oraclemesh(path, size, diagonal, tmp, timeout, engine, fineness=None):
     solids = solids_of(path)
     entry = {"name": os.path.splitext(os.path.basename(path))[0], "file": path}
     if len(solids) > 1:
@@ -99,6 +99,8 @@ def oraclemesh(path, size, diagonal, tmp, timeout, engine):
                                                          "report": os.path.join(tmp, "om.json")}}
     if size is not None:
         job["criteria"] = {"default": {"cell_size": size, "facet_size": size, "facet_distance": diagonal / 1000}}
+    elif fineness:
+        job["criteria"] = {"fineness": fineness}
     job_path = os.path.join(tmp, "job.json")
     with open(job_path, "w") as f:
         json.dump(job, f)
@@ -173,6 +175,8 @@ def tetgen(path, size, diagonal, tmp, timeout):
 # ------------------------------------------------------------------ one row
 def measure(mesher, path, size, diagonal, timeout):
     with tempfile.TemporaryDirectory(prefix="oraclemesh-realcad-") as tmp:
+        if mesher.startswith("oraclemesh@"):  # the thesis engine at a fineness of its own
+            return oraclemesh(path, size, diagonal, tmp, timeout, "thesis", mesher.split("@", 1)[1])
         if mesher == "oraclemesh":
             return oraclemesh(path, size, diagonal, tmp, timeout, "thesis")
         if mesher == "oraclemesh-cgal":
@@ -189,7 +193,8 @@ def main():
     ap.add_argument("--netgen-child", nargs=3)
     ap.add_argument("--only", default="")
     ap.add_argument("--sizes", default="25,default")
-    ap.add_argument("--meshers", default=",".join(MESHERS))
+    ap.add_argument("--meshers", default=",".join(MESHERS),
+                    help="also oraclemesh@FINENESS: the thesis engine at that fineness where the size is default")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--json", default="", help="also append every row as a JSON line to this file")
