@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "RunControl.h"
 #include "domain/LabeledImage.h"
 #include "domain/TriangleSurface.h"
 
@@ -15,17 +16,19 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Taubin's smoothing (a shrinking step then an inflating one, so a ball keeps its radius)
 // turns the voxel faces' staircase into a surface whose normals turn as the label's boundary
-// does; this many pairs smooth the steps of one voxel without rounding shapes a few voxels
-// across.
+// does; with fewer pairs the steps of single voxels still show in the normals, and the
+// curvature they read asks for sizes near one voxel everywhere.
 constexpr int kSmoothingPairs = 100;
 constexpr double kShrink = 0.5, kInflate = -0.53;
 // The smoothed surface's normals still tilt by a few degrees from one voxel to the next; its
 // curvature is measured over points this many edges away (sizing/DiscreteSurface.h).
 constexpr int kCurvatureRings = 3;
 
-void smooth(std::vector<Point3>& points, const std::vector<std::vector<int64_t>>& neighbours) {
+void smooth(std::vector<Point3>& points, const std::vector<std::vector<int64_t>>& neighbours,
+            const RunControl& control) {
   std::vector<Point3> next(points.size());
   for (int pass = 0; pass < 2 * kSmoothingPairs; ++pass) {
+    control.checkpoint();
     const double weight = pass % 2 == 0 ? kShrink : kInflate;
     for (size_t p = 0; p < points.size(); ++p) {
       if (neighbours[p].empty()) {
@@ -43,7 +46,7 @@ void smooth(std::vector<Point3>& points, const std::vector<std::vector<int64_t>>
 
 // The voxel faces between `label` and any other label (background included), each as two
 // triangles with its corners at voxel corners, outward; then smoothed.
-DiscreteSurface imageLabelSurface(const LabeledImage& image, int32_t label) {
+DiscreteSurface imageLabelSurface(const LabeledImage& image, int32_t label, const RunControl& control) {
   DiscreteSurface surface;
   const Point3& s = image.spacing();
   const Point3& o = image.origin();
@@ -96,7 +99,7 @@ DiscreteSurface imageLabelSurface(const LabeledImage& image, int32_t label) {
             surface.triangles.push_back({quad[0], quad[2], quad[3]});
           }
       }
-  smooth(surface.points, neighbours);
+  smooth(surface.points, neighbours, control);
   // Smoothing moves the staircase's corners up to about half a voxel; the oracle's boundary
   // passes through the voxel faces' centres.
   surface.deviation = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
@@ -111,14 +114,14 @@ bool hasDiscreteSurface(const Source& source) {
   return dynamic_cast<const TriangleSurface*>(&source) || dynamic_cast<const ImageLabelRegion*>(&source);
 }
 
-DiscreteSurface discreteSurfaceOf(const Source& source) {
+DiscreteSurface discreteSurfaceOf(const Source& source, const RunControl& control) {
   if (const auto* triangles = dynamic_cast<const TriangleSurface*>(&source)) {
     DiscreteSurface surface;
     triangles->outwardTriangles(surface.points, surface.triangles);
     return surface;
   }
   if (const auto* region = dynamic_cast<const ImageLabelRegion*>(&source))
-    return imageLabelSurface(region->image(), region->label());
+    return imageLabelSurface(region->image(), region->label(), control);
   return {};
 }
 

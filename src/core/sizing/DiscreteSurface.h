@@ -11,6 +11,7 @@
 
 namespace oraclemesh {
 
+class RunControl;
 class Source;
 
 struct DiscreteSurface {
@@ -31,7 +32,8 @@ struct DiscreteSurface {
 bool hasDiscreteSurface(const Source& source);
 
 // Empty (no triangles) for a source that is neither a triangle surface nor an image label.
-DiscreteSurface discreteSurfaceOf(const Source& source);
+// `control` is checked between the smoothing passes of an image's surface.
+DiscreteSurface discreteSurfaceOf(const Source& source, const RunControl& control);
 
 // Per triangle of `surface`, at each of its corners p: the largest normal curvature of its
 // sheet there along the sheet's edges from p, 2 |n . (q - p)| / |q - p|^2 for each edge p-q

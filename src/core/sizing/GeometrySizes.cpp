@@ -527,7 +527,7 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
         deviations.push_back(brep && brep->proxyInfo().usable ? brep->proxyInfo().deflection
                                                               : std::numeric_limits<double>::infinity());
       } else {
-        const DiscreteSurface surface = discreteSurfaceOf(source);
+        const DiscreteSurface surface = discreteSurfaceOf(source, control);
         if (surface.triangles.empty()) continue;
         samplers.emplace_back(source.name(), surface, discreteSharpAngle, fineness, oracle.diagonal(), cap, control);
         deviations.push_back(surface.deviation);
