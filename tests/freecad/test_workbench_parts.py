@@ -60,12 +60,13 @@ def test_workbench_parts(run_freecad):
     check_exported_inp_in_calculix(r["exports"][".inp"], meshio)
     assert "xyz" in r["bad_extension"] and ".vtu" in r["bad_extension"]
 
-    assert len(r["restored_properties"]) == 7 and all(r["restored_properties"].values()), \
+    assert len(r["restored_properties"]) == 8 and all(r["restored_properties"].values()), \
         r["restored_properties"]
     # Saved before the Engine property: kept on Mesh_3, which meshed it then; saved before the
     # Fineness property: kept on the sizes alone, while a new mesh object follows the geometry.
     assert r["restored_engine"] == "cgal" and r["restored_junctions"] is True
     assert r["restored_fineness"] == "off" and r["new_mesh_fineness"] == "moderate"
+    assert r["restored_checks"] == "warn"  # the default, as old documents were meshed
     # An engine the document stored stays, whatever order the engines were listed in.
     assert r["stored_engine"] == ["cgal", ["thesis", "cgal"]]
     assert r["restored_planar_faces"] is False  # off unless asked for

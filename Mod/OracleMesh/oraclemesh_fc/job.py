@@ -278,8 +278,9 @@ def extra_edge_polylines(mesh_obj):
     return polylines, names
 
 
-def name_polylines(text, names):
-    """Core message with 'features.polylines[i]' turned into the extra edge's name."""
+def in_mesh_object_words(text, names):
+    """A core message as the mesh object's user reads it: 'features.polylines[i]' with the
+    extra edge's name (`names`), the self-check's way out as the Checks property."""
     import re
 
     def named(match):
@@ -287,7 +288,8 @@ def name_polylines(text, names):
         if i < len(names):
             return "extra edge %s (%s)" % (names[i], match.group(0))
         return match.group(0)
-    return re.sub(r"features\.polylines\[(\d+)\]", named, text)
+    text = re.sub(r"features\.polylines\[(\d+)\]", named, text)
+    return text.replace('set "checks": "warn"', "set the mesh object's Checks to warn")
 
 
 def build_job(mesh_obj):
@@ -378,6 +380,7 @@ def build_job(mesh_obj):
         "criteria": criteria,
         "features": features,
         "engine": str(getattr(mesh_obj, "Engine", "thesis")),
+        "checks": str(getattr(mesh_obj, "Checks", "warn")),
         "element_order": int(mesh_obj.ElementOrder),
         "optimize": {"perturb": bool(mesh_obj.Optimize), "exude": bool(mesh_obj.Optimize)},
         "seed": int(mesh_obj.Seed),

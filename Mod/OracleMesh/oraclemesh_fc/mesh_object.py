@@ -16,7 +16,7 @@ import FreeCAD
 from . import ccx_interfaces
 from .handoff import build_femmesh, feature_edge_mid_nodes
 from .input_checks import cut_warnings
-from .job import MeshInputError, build_job, input_kinds, name_polylines, priority_entries
+from .job import MeshInputError, build_job, input_kinds, in_mesh_object_words, priority_entries
 from .proxy import StatelessProxy
 from .runner import import_core, run_job
 from .sizes import DEFAULT_FINENESS, FINENESS_NAMES
@@ -26,6 +26,9 @@ from .sizes import DEFAULT_FINENESS, FINENESS_NAMES
 ENGINE_NAMES = ("thesis", "cgal")
 # Enumerations whose default is not their first choice.
 ENUMERATION_DEFAULTS = {"Fineness": DEFAULT_FINENESS}
+# The core's "checks", its default first: a mesh that misses volume of a part, splits it or
+# joins two parts is kept with warnings, or refused (the previous mesh is kept).
+CHECK_MODES = ("warn", "error")
 # What documents saved before these properties existed were meshed with: restored, they keep
 # meshing as they did (new mesh objects get the defaults above).
 VALUES_OF_OLD_DOCUMENTS = {"Engine": "cgal", "Fineness": "off"}
@@ -73,6 +76,11 @@ PROPERTIES = (
      "(6 / 8 / 12 / 18 / 24 from very coarse to very fine), two segments per short sharp edge, "
      "walls several sizes thick, graded (moderate by default); off = the sizes above alone",
      list(FINENESS_NAMES)),
+    ("App::PropertyEnumeration", "Checks", "Mesh",
+     "A mesh that fails its self-check (a part more than 1 % off its CAD volume, split into "
+     "pieces, or two parts joined across a gap): warn = kept, the problems in Status and the "
+     "report view; error = refused, the previous mesh is kept",
+     list(CHECK_MODES)),
     ("App::PropertyLength", "ContactTolerance", "Mesh",
      "Parts closer than this touch and are bonded; parts farther apart stay apart (with a "
      "Fineness, the sizes resolve the gap). 0 = automatic: the CAD's own tolerance (the "
@@ -206,7 +214,7 @@ class OracleMeshProxy(StatelessProxy):
             # The core names extra edges by their place in the job: say which edge it is.
             message = "OracleMesh '%s' failed%s: %s" % (
                 obj.Label, ", the previous mesh is kept" if had_mesh else "",
-                name_polylines(error_text(e), polyline_names))
+                in_mesh_object_words(error_text(e), polyline_names))
             if kinds is not None:
                 obj.InputKinds = kinds
             obj.Status = message

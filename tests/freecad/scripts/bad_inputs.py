@@ -19,6 +19,8 @@ def check(params):
     shell = doc.addObject("Part::Feature", "OpenShell")
     shell.Shape = Part.Shell(Part.makeBox(10, 10, 10).Faces[:5])  # one face missing
     group = doc.addObject("App::DocumentObjectGroup", "JustAGroup")
+    pin = doc.addObject("Part::Cylinder", "Pin")
+    pin.Radius, pin.Height = 3, 20
     doc.recompute()
     mesh = makeMesh(doc, [good], cell_size=3.0, element_order=1)
     doc.recompute()
@@ -42,6 +44,8 @@ def check(params):
                                                  '"kind": "tied"}]}'},
         "interface_bad_kind": {"Interfaces": '{"default": "glued"}'},
         "interface_not_json": {"Interfaces": '{"default": bonded'},
+        # tet4 cells of 30 on a pin of radius 3: a prism of a few sides, far short of its volume
+        "fails_its_check": {"Inputs": [pin], "Checks": "error", "CellSize": 30, "Fineness": "off"},
     }
     out = {}
     for case, props in cases.items():

@@ -8,7 +8,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import fc_harness as h  # noqa: E402
 
 NEW_PROPERTIES = ("Engine", "Junctions", "PlanarFaces", "InputMaterialNames", "FeatureEdges", "ContactTolerance",
-                  "Fineness")
+                  "Fineness", "Checks")
 
 
 def check(params):
@@ -108,6 +108,7 @@ def check(params):
     out["restored_properties"] = {n: hasattr(old, n) for n in NEW_PROPERTIES}
     out["restored_engine"] = old.Engine
     out["restored_fineness"] = old.Fineness
+    out["restored_checks"] = old.Checks
     new = makeMesh(doc, [doc.getObject("Block")], name="NewMesh")
     out["new_mesh_fineness"] = new.Fineness
     doc.removeObject(new.Name)
