@@ -118,6 +118,20 @@ TEST(SizeFieldModerate, AWallTooThinForTheVertexLimitIsRefusedUpFrontAtTheDefaul
   }
 }
 
+// A box with a cell size far too small for the vertex limit: the message blames the size given,
+// not a curvature the box does not have (it said "0.05 at (0, 0, 0), from curvature").
+TEST(SizeFieldModerate, SizesGivenTooSmallForTheVertexLimitAreNamedAsGiven) {
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(20, 10, 10).Shape();
+  const json job = {{"inputs", {{{"name", "GoodBox"}, {"brep", test::brepText(box)}, {"material", 1}}}},
+                    {"criteria", {{"default", {{"cell_size", 0.05}}}}},
+                    {"limits", {{"max_vertices", 1000}}}};
+  const std::string message = test::inputErrorOf([&] { runJob(JobSpec::fromJson(job, ""), RunControl()); });
+  for (const char* part : {"the sizes given (cell_size 0.05 on input 'GoodBox')", "limits.max_vertices = 1000",
+                           "raise cell_size and facet_size"})
+    EXPECT_NE(message.find(part), std::string::npos) << part << "\n" << message;
+  EXPECT_EQ(message.find("curvature"), std::string::npos) << message;
+}
+
 TEST(SizeFieldModerate, IsTheDefaultUnderTheGivenSizesAndOffTurnsItOff) {
   json job = pinInBlockJob();
   job["criteria"] = {{"default", {{"cell_size", 20}}}};

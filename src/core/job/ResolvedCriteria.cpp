@@ -154,6 +154,14 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
                        " to bond them; else raise limits.max_vertices (the mesh keeps parts that do not touch "
                        "apart at every size)");
     }
+    if (!(sizes.smallest.size < cap)) {
+      // Nothing on that input asks for less than the cap: the sizes given are what is too small.
+      std::snprintf(where, sizeof where, "%g", cap);
+      throw InputError("the sizes given (cell_size " + std::string(where) + " on input '" +
+                       oracle.entries()[sizes.largest_entry].source->name() + "')" + tooMany +
+                       ": raise cell_size and facet_size (check the model units: FreeCAD works in mm) or raise "
+                       "limits.max_vertices");
+    }
     std::snprintf(where, sizeof where, "%g at (%g, %g, %g), from %s", sizes.smallest.size, at[0], at[1], at[2],
                   sizeReasonName(sizes.smallest.reason));
     throw InputError("the sizes the geometry asks for (" + preset + ", smallest size on input '" +
