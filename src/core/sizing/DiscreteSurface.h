@@ -20,8 +20,8 @@ struct DiscreteSurface {
   // How far the triangles may lie from the input's boundary (0 for a triangle surface, which
   // is its triangles), for the gap widths that fall within it of the contact tolerance.
   double deviation = 0;
-  // The smallest size the input resolves: its triangles are flat and its voxels are no
-  // finer, so curvature asks for nothing below this.
+  // The smallest size curvature may ask for: an image's voxel, for it resolves nothing finer
+  // (0 for a triangle surface).
   double resolution = 0;
   // 1: the curvature is measured per sheet over each point's edges (cornerCurvatures); more: the
   // surface is a smoothed one, without sharp edges, measured over the points this many edges away.
