@@ -16,7 +16,8 @@ EXPECTED = {
     "interface_unknown_part": ["interfaces of", "'nope' is no part", "'goodbox'"],
     "interface_bad_kind": ["interfaces of", "default = 'glued'", "bonded, tied, contact"],
     "interface_not_json": ["interfaces of", "no json", "empty for all bonded"],
-    "fails_its_check": ["'pin'", "less volume", "element_order 2", "set the mesh object's checks to warn"],
+    "fails_its_check": ["'pin'", "less volume", "element_order 2", "inputsizes['pin']",
+                        "set the mesh object's checks to warn"],
 }
 # makeMesh(interfaces=...) case -> words of its refusal (lower case): the key and the fix.
 REFUSED = {

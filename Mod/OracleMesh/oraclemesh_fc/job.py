@@ -278,9 +278,11 @@ def extra_edge_polylines(mesh_obj):
     return polylines, names
 
 
-def in_mesh_object_words(text, names):
+def in_mesh_object_words(text, names, described=()):
     """A core message as the mesh object's user reads it: 'features.polylines[i]' with the
-    extra edge's name (`names`), the self-check's way out as the Checks property."""
+    extra edge's name (`names`), the self-check's way out as the Checks property, and a
+    material's sizes (criteria.materials."N") as the InputSizes key of its part where one part
+    has that material (`described`: build_job's (part, role, material id) triples)."""
     import re
 
     def named(match):
@@ -289,6 +291,13 @@ def in_mesh_object_words(text, names):
             return "extra edge %s (%s)" % (names[i], match.group(0))
         return match.group(0)
     text = re.sub(r"features\.polylines\[(\d+)\]", named, text)
+    keys = {}  # material id -> the keys of its parts (InputSizes' keys)
+    for part, role, mid in described:
+        if role == "material":
+            keys.setdefault(mid, []).append(part.key)
+    for mid, of in keys.items():
+        if len(of) == 1:
+            text = text.replace('criteria.materials."%d"' % mid, "InputSizes['%s']" % of[0])
     return text.replace('set "checks": "warn"', "set the mesh object's Checks to warn")
 
 

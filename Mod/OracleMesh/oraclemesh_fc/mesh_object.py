@@ -200,7 +200,7 @@ class OracleMeshProxy(StatelessProxy):
         # Everything that can fail runs before the first output property is written, and any
         # failure (the job, the core, the hand-off, the report) becomes the same message in
         # Status, the report view and (GUI) a message box: never a bare traceback.
-        polyline_names, kinds = [], None
+        polyline_names, kinds, described = [], None, ()
         had_mesh = obj.FemMesh.VolumeCount > 0
         started = time.time()
         try:
@@ -211,10 +211,11 @@ class OracleMeshProxy(StatelessProxy):
                                     [(s["name"], s["faces"]) for s in result.surfaces])
             outputs = mesh_outputs(result, groups, described, femmesh, time.time() - started)
         except Exception as e:
-            # The core names extra edges by their place in the job: say which edge it is.
+            # The core names extra edges and materials by their place in the job: say which
+            # edge and which part it is.
             message = "OracleMesh '%s' failed%s: %s" % (
                 obj.Label, ", the previous mesh is kept" if had_mesh else "",
-                in_mesh_object_words(error_text(e), polyline_names))
+                in_mesh_object_words(error_text(e), polyline_names, described))
             if kinds is not None:
                 obj.InputKinds = kinds
             obj.Status = message
