@@ -85,7 +85,7 @@ TEST(SizeFieldDiscrete, TriangleSurfaceCubesHalfAMillimetreApartStayApart) {
 // A ball of radius 4 voxels (label 1) in a 60 x 60 x 12 voxel slab (label 2), 1 mm voxels: the
 // cap (diagonal / 15, 5.7 mm) is wider than the ball; its curvature asks for about 1 mm. The
 // reference is the region's volume at converged sizes.
-TEST(SizeFieldDiscrete, ASmallVoxelBallInALargeImageKeepsItsVoxelVolumeAtTheDefault) {
+TEST(SizeFieldDiscrete, ASmallVoxelBallInALargeImageKeepsItsVolumeAtTheDefault) {
   const int nx = 60, ny = 60, nz = 12;
   std::string labels(static_cast<size_t>(nx) * ny * nz, '\2');
   int64_t ballVoxels = 0;
