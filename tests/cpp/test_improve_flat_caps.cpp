@@ -174,6 +174,67 @@ TEST(ImproveFlatCaps, CapOnAnInterfaceIsFlippedOnBothSides) {
   EXPECT_EQ(interface, 2);
 }
 
+// A fold, as screw.step's chamfer had them: the flat tet p0 p1 p2 p3 (p2 `lift` above the
+// plane of the others) stands on one tet under p0 p1 p3 alone, so three of its faces are on
+// the boundary: its top (p0 p1 p2, p0 p2 p3) and, facing down, p1 p2 p3. With `wing`, a tet
+// hanging from edge p1 p2 keeps p2 in the mesh once the fold is gone.
+constexpr int64_t E = 5, F = 6;
+
+TetMesh foldOnATet(double lift, bool wing) {
+  TetMesh m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, lift}, {0, 1, 0}, {0.3, 0.3, -1}, {2, 0, 0}, {2, 1, 1}};
+  m.tets = {{P0, P1, P3, Q}, {P0, P1, P2, P3}};
+  if (wing) m.tets.push_back({P1, P2, E, F});
+  else m.points.resize(5);
+  m.tet_materials.assign(m.tets.size(), 1);
+  orientAll(m);
+  m.boundary = extractBoundary(m);
+  m.vertex_dimension.assign(m.points.size(), 2);
+  m.vertex_curve.assign(m.points.size(), -1);
+  return m;
+}
+
+TEST(ImproveFlatCaps, FoldOnTheOuterBoundaryIsTakenOut) {
+  const TetMesh before = foldOnATet(1e-12, true);
+  ASSERT_LT(minDihedralOf(before), 1e-6);
+  TetMesh m = before;
+  const FlatCapStats s = removeFlatCaps(m, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.folds_removed, 1);
+  EXPECT_EQ(s.caps_kept, 0);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_FALSE(hasEdge(m, P0, P2));
+  EXPECT_FALSE(hasEdge(m, P2, P3));
+  EXPECT_TRUE(hasEdge(m, P1, P2));
+  EXPECT_GT(minDihedralOf(m), 10);
+  expectConsistent(before, m, kVolumeBound);
+  // The fold's inner face is boundary now, and no boundary face has a corner at p2 but the wing's.
+  const auto faces = test::listedBoundaryFaces(m);
+  EXPECT_TRUE(std::binary_search(faces.begin(), faces.end(), test::sortedFace(P0, P1, P3)));
+  for (const BoundaryTriangle& b : m.boundary)
+    if (std::count(b.v.begin(), b.v.end(), P2)) EXPECT_TRUE(std::count(b.v.begin(), b.v.end(), E) || std::count(b.v.begin(), b.v.end(), F));
+}
+
+TEST(ImproveFlatCaps, FoldIsKeptWhenItsCornerOrAFeatureEdgeWouldGo) {
+  TetMesh alone = foldOnATet(1e-12, false);  // p2 is in no other tet
+  FlatCapStats s = removeFlatCaps(alone, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.folds_removed, 0);
+  EXPECT_EQ(s.caps_kept, 1);
+  EXPECT_EQ(alone.tets.size(), 2u);
+
+  TetMesh feature = foldOnATet(1e-12, true);  // p0 p2 is a feature edge only the fold has
+  feature.feature_edges = {{P0, P2}};
+  feature.feature_edge_curves = {0};
+  s = removeFlatCaps(feature, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.folds_removed, 0);
+  EXPECT_EQ(feature.tets.size(), 3u);
+  EXPECT_TRUE(hasEdge(feature, P0, P2));
+
+  TetMesh steep = foldOnATet(1e-3, true);  // not flat: a corner of the part, not a fold
+  s = removeFlatCaps(steep, kFlatness, kVolumeBound);
+  EXPECT_EQ(s.folds_removed + s.caps_kept, 0);
+  EXPECT_EQ(steep.tets.size(), 3u);
+}
+
 TEST(ImproveFlatCaps, TheStageRunsThemFirstAndReportsThem) {
   TetMesh m = cappedPyramid(1e-12);
   const ImprovementStats s = improveMesh(m, ImprovementOptions{}, RunControl());

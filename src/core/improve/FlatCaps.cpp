@@ -77,6 +77,20 @@ Cap capOf(const ImprovementMesh& mesh, int64_t t) {
   return {k[innerCorners[0]], k[innerCorners[1]], k[capCorners[0]], k[capCorners[1]], first};
 }
 
+// The corner shared by the three outer faces of a tet whose fourth face is inner (a fold: the
+// outer faces are both triangulations of a quad of the surface, or a pinch), else -1.
+int64_t foldCornerOf(const ImprovementMesh& mesh, int64_t t) {
+  const TetCorners& k = mesh.tet(t);
+  int64_t corner = -1;
+  int outer = 0;
+  for (int i = 0; i < 4; ++i) {
+    const FaceNeighbour n = neighbourAcross(mesh, t, k[(i + 1) % 4], k[(i + 2) % 4], k[(i + 3) % 4]);
+    if (n.side == FaceSide::Outer) ++outer;
+    else if (n.side == FaceSide::Inner) corner = k[i];
+  }
+  return outer == 3 ? corner : -1;
+}
+
 // Flat: the cap faces (abc, abd) face one way and the inner faces (acd, bcd) the other (the two
 // triangulations of one convex quad), every corner within `flatness` of their mean plane.
 bool isFlat(const std::vector<Point3>& p, const Cap& cap, double flatness) {
@@ -113,6 +127,18 @@ class CapRemoval {
       if (!work_.alive(t)) continue;
       const double flatness = flatnessOf(work_.tet(t));
       if (!thinEnough(work_.tet(t), flatness)) continue;
+      if (const int64_t corner = foldCornerOf(work_, t); corner >= 0) {
+        const bool curved = height(work_.tet(t)) > flatness_;
+        const bool done = removeFold(t, corner, curved);
+        if (!apply) {
+          stats.caps_kept += !done;
+        } else if (done) {
+          ++changes;
+          ++stats.folds_removed;
+          stats.curved_caps += curved;
+        }
+        continue;
+      }
       Cap cap = capOf(work_, t);
       if (cap.a < 0 || !isFlat(work_.points(), cap, flatness)) continue;
       cap.curved = !isFlat(work_.points(), cap, flatness_);
@@ -146,13 +172,19 @@ class CapRemoval {
   // the largest face, so the volume is at most 2w/3 of the largest face and the height over it
   // at most 2w.
   bool thinEnough(const TetCorners& t, double flatness) const {
+    const double h = height(t);
+    return h >= 0 && h <= 4 * flatness;
+  }
+
+  // The tet's height over its largest face; -1 when every face is degenerate.
+  double height(const TetCorners& t) const {
     const auto& p = work_.points();
     double largest = 0;
     for (int i = 0; i < 4; ++i) {
       const Point3 &a = p[t[(i + 1) % 4]], &b = p[t[(i + 2) % 4]], &c = p[t[(i + 3) % 4]];
       largest = std::max(largest, 0.5 * norm(cross(b - a, c - a)));
     }
-    return largest > 0 && 3 * volumeOf(t) / largest <= 4 * flatness;
+    return largest > 0 ? 3 * volumeOf(t) / largest : -1;
   }
 
   // The absolute flatness, or with curved caps that share of the tet's longest edge if larger.
@@ -165,16 +197,61 @@ class CapRemoval {
     return std::max(flatness_, curved_.relative_flatness * longest);
   }
 
-  // Within the bound of the cap's kind (flat or curved).
-  bool withinVolumeBound(const Cap& cap, int material, double volume) const {
-    const auto& moved = cap.curved ? curved_moved_ : moved_;
+  // Within the bound of the change's kind (on a flat or a curved piece).
+  bool withinVolumeBound(bool curved, int material, double volume) const {
+    const auto& moved = curved ? curved_moved_ : moved_;
     const auto it = moved.find(material);
     const double before = it == moved.end() ? 0 : it->second;
-    return before + volume <= (cap.curved ? curved_.volume_bound : volume_bound_) * volume_.at(material);
+    return before + volume <= (curved ? curved_.volume_bound : volume_bound_) * volume_.at(material);
   }
 
-  void countVolume(const Cap& cap, int material, double volume) {
-    (cap.curved ? curved_moved_ : moved_)[material] += volume;
+  void countVolume(bool curved, int material, double volume) {
+    (curved ? curved_moved_ : moved_)[material] += volume;
+  }
+
+  // A fold taken out: its inner face becomes the boundary. The edges at `corner` lose the
+  // tet's two outer faces at each, so they keep two boundary faces (or vanish with the tet,
+  // unless one is a feature edge). The corner must stay in a tet, and its other tets one fan
+  // (else the surface would pinch there).
+  bool removeFold(int64_t t, int64_t corner, bool curved) {
+    const int material = work_.material(t);
+    if (height(work_.tet(t)) > flatnessOf(work_.tet(t))) return false;
+    for (int64_t v : work_.tet(t))
+      if (v != corner && work_.isProtectedEdge(corner, v) && work_.tetsAroundEdge(corner, v).size() == 1) return false;
+    if (!oneFanWithout(corner, t)) return false;
+    const double volume = volumeOf(work_.tet(t));
+    if (!withinVolumeBound(curved, material, volume)) return false;
+    if (!apply_) return true;
+    work_.replace({t}, {}, material);
+    countVolume(curved, material, volume);
+    return true;
+  }
+
+  // Whether v's tets other than `removed` are at least one and connected through faces at v.
+  bool oneFanWithout(int64_t v, int64_t removed) const {
+    std::vector<int64_t> rest;
+    for (int64_t t : work_.tetsOf(v))
+      if (t != removed) rest.push_back(t);
+    if (rest.empty()) return false;
+    std::vector<char> reached(rest.size(), 0);
+    std::vector<size_t> stack{0};
+    reached[0] = 1;
+    auto sharedCorners = [&](int64_t x, int64_t y) {
+      int n = 0;
+      for (int64_t a : work_.tet(x))
+        for (int64_t b : work_.tet(y)) n += a == b;
+      return n;
+    };
+    while (!stack.empty()) {
+      const size_t i = stack.back();
+      stack.pop_back();
+      for (size_t j = 0; j < rest.size(); ++j)
+        if (!reached[j] && sharedCorners(rest[i], rest[j]) == 3) {
+          reached[j] = 1;
+          stack.push_back(j);
+        }
+    }
+    return std::all_of(reached.begin(), reached.end(), [](char r) { return r != 0; });
   }
 
   // The edge ab disappears with the tet unless another tet has it; c and d stay in the inner
@@ -184,10 +261,10 @@ class CapRemoval {
     if (work_.isProtectedEdge(cap.a, cap.b) && work_.tetsAroundEdge(cap.a, cap.b).size() == 1) return false;
     if (edgeOnSurface(work_, cap.c, cap.d)) return false;
     const double volume = volumeOf(work_.tet(t));
-    if (!withinVolumeBound(cap, material, volume)) return false;
+    if (!withinVolumeBound(cap.curved, material, volume)) return false;
     if (!apply_) return true;
     work_.replace({t}, {}, material);
-    countVolume(cap, material, volume);
+    countVolume(cap.curved, material, volume);
     return true;
   }
 
@@ -214,11 +291,11 @@ class CapRemoval {
     std::vector<TetCorners> made;
     if (!(triangulateEdgeRing(work_, cap.a, cap.b, ring, bound, made) > work_.quality(t))) return false;
     const double volume = volumeOf(work_.tet(t));
-    if (!withinVolumeBound(cap, own, volume) || !withinVolumeBound(cap, other, volume)) return false;
+    if (!withinVolumeBound(cap.curved, own, volume) || !withinVolumeBound(cap.curved, other, volume)) return false;
     if (!apply_) return true;
     work_.replace(ring, made, other);
-    countVolume(cap, own, volume);
-    countVolume(cap, other, volume);
+    countVolume(cap.curved, own, volume);
+    countVolume(cap.curved, other, volume);
     return true;
   }
 

@@ -230,6 +230,7 @@ json improvementJson(const ImprovementReport& r, const std::vector<SmallInputAng
           {"curved_moves_largest_volume_share", s.curved_volume_share},
           {"flat_caps", {{"boundary_caps_removed", s.flat_caps.boundary_caps_removed},
                          {"interface_caps_flipped", s.flat_caps.interface_caps_flipped},
+                         {"folds_removed", s.flat_caps.folds_removed},
                          {"caps_kept", s.flat_caps.caps_kept},
                          {"largest_volume_change", s.flat_caps.largest_volume_change},
                          {"curved_caps", s.flat_caps.curved_caps},
