@@ -31,10 +31,15 @@ void CurveRegistry::addUserPolyline(int curve, std::shared_ptr<const std::vector
 void CurveRegistry::addPolylines(const FeatureGraph& graph, const std::shared_ptr<const JunctionCurves>& junctions,
                                  const std::vector<std::shared_ptr<const std::vector<Point3>>>& userPolylines,
                                  const std::vector<std::shared_ptr<const UserCurve>>& userCurves) {
-  for (const FeaturePolyline& pl : graph.polylines)
-    origins_[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr,
-                          pl.user >= 0 ? userPolylines[pl.user] : nullptr,
+  for (const FeaturePolyline& pl : graph.polylines) {
+    std::shared_ptr<const std::vector<Point3>> polyline;
+    if (pl.user >= 0)
+      polyline = userPolylines[pl.user];
+    else if (pl.source >= 0 && pl.edge < 0 && pl.junction < 0)
+      polyline = std::make_shared<const std::vector<Point3>>(pl.points);  // a triangle surface's edges
+    origins_[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr, std::move(polyline),
                           pl.user >= 0 && pl.user < static_cast<int>(userCurves.size()) ? userCurves[pl.user] : nullptr};
+  }
 }
 
 int CurveRegistry::entryOf(int curve) const {

@@ -1,7 +1,8 @@
 #pragma once
 // Where each feature curve of a job came from, so that points can be put onto the exact curve
 // behind its polyline: a B-rep edge of an oracle entry, a junction curve (two inputs'
-// boundaries crossing), or a user polyline with, when the job gave one, its exact CAD edge.
+// boundaries crossing), a user polyline with, when the job gave one, its exact CAD edge, or
+// the edges of a triangle surface (the polyline is the curve).
 // The thesis engine's segment vertices, the boundary snap and the second-order mid nodes all
 // go onto the curves through it.
 #include <memory>
@@ -29,15 +30,15 @@ class CurveRegistry {
   void addUserPolyline(int curve, std::shared_ptr<const std::vector<Point3>> polyline,
                        std::shared_ptr<const UserCurve> exact);
   // Registers every polyline of `graph` by its origin fields (FeaturePolyline::source, ::edge,
-  // ::junction, ::user). `userPolylines` and `userCurves` are indexed by FeaturePolyline::user
+  // ::junction, ::user; none of edge, junction, user: the polyline is its own curve). `userPolylines` and `userCurves` are indexed by FeaturePolyline::user
   // (userCurves may hold nulls).
   void addPolylines(const FeatureGraph& graph, const std::shared_ptr<const JunctionCurves>& junctions,
                     const std::vector<std::shared_ptr<const std::vector<Point3>>>& userPolylines,
                     const std::vector<std::shared_ptr<const UserCurve>>& userCurves);
 
   bool contains(int curve) const { return origins_.count(curve) > 0; }
-  // The oracle entry a registered curve belongs to (a B-rep edge's entry), -1 for junction and
-  // user curves and for curves not registered.
+  // The oracle entry a registered curve belongs to (a B-rep edge's or a triangle surface's
+  // entry), -1 for junction and user curves and for curves not registered.
   int entryOf(int curve) const;
   // The point of curve `curve` nearest to p. Infinite distance when the curve is not
   // registered or has no exact geometry to project onto.

@@ -10,6 +10,7 @@
 #include "features/CoincidentFeatures.h"
 #include "features/CurveSampling.h"
 #include "features/RuleSetQ.h"
+#include "features/TriangleSurfaceSharpEdges.h"
 #include "features/UserPolylines.h"
 
 namespace oraclemesh {
@@ -47,11 +48,14 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   const double sagitta = thesisEngineSagitta(job, table, edgeSize);
   int nextCurve = 0;
   for (size_t i = 0; i < oracle.entries().size() && job.sharp_angle_deg > 0; ++i) {
-    const auto* solid = oracle.entries()[i].source->brepTopology();
-    if (!solid) continue;
+    const Source& source = *oracle.entries()[i].source;
     std::function<double(const Point3&)> localEdgeSize;
     if (table.varies()) localEdgeSize = [&table](const Point3& p) { return table.edgeSizeAt(p); };
-    FeatureGraph g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta, localEdgeSize);
+    FeatureGraph g;
+    if (const auto* solid = source.brepTopology())
+      g = extractSharpEdges(*solid, static_cast<int>(i), job.sharp_angle_deg, edgeSize, sagitta, localEdgeSize);
+    else if (const auto* triangles = dynamic_cast<const TriangleSurface*>(&source))
+      g = extractTriangleSurfaceSharpEdges(*triangles, static_cast<int>(i), job.sharp_angle_deg, edgeSize, localEdgeSize);
     for (FeaturePolyline& pl : g.polylines) {
       pl.curve = nextCurve++;  // extraction numbers per solid; the graph needs global ids
       all.polylines.push_back(std::move(pl));
@@ -125,7 +129,8 @@ AssembledFeatures assembleFeatures(const JobSpec& job, const HierarchicalOracle&
 FeatureReport describeFeatures(const JobSpec& job, const AssembledFeatures& features) {
   FeatureReport report;
   for (const FeaturePolyline& pl : features.graph.polylines) {
-    report.sharp_edge_polylines += pl.edge >= 0;
+    // Sharp edges of B-rep solids and of triangle surfaces (no B-rep edge, junction or user curve).
+    report.sharp_edge_polylines += pl.edge >= 0 || (pl.source >= 0 && pl.junction < 0 && pl.user < 0);
     report.junction_polylines += pl.junction >= 0;
     report.user_polylines += pl.user >= 0;
   }
