@@ -32,7 +32,7 @@ json surfaceInput(const std::string& name, const test::Triangles& t, int materia
 // At fineness "off" the small parts below lose volume: the self-check must say so.
 JobResult runWithFineness(json job, const std::string& fineness) {
   if (!fineness.empty()) job["criteria"] = {{"fineness", fineness}};
-  job["checks"] = "warn";  // the default, pinned: the meshes at "off" are kept to be compared
+  job["checks"] = "warn";  // the meshes at "off" are kept to be compared
   return runJob(JobSpec::fromJson(job, ""), RunControl());
 }
 

@@ -66,7 +66,8 @@ def test_workbench_parts(run_freecad):
     # Fineness property: kept on the sizes alone, while a new mesh object follows the geometry.
     assert r["restored_engine"] == "cgal" and r["restored_junctions"] is True
     assert r["restored_fineness"] == "off" and r["new_mesh_fineness"] == "moderate"
-    assert r["restored_checks"] == "warn"  # the default, as old documents were meshed
+    assert r["restored_checks"] == "warn"  # as old documents were meshed
+    assert r["new_mesh_checks"] == "error"  # a new mesh object refuses a mesh that is not the model
     # An engine the document stored stays, whatever order the engines were listed in.
     assert r["stored_engine"] == ["cgal", ["thesis", "cgal"]]
     assert r["restored_planar_faces"] is False  # off unless asked for

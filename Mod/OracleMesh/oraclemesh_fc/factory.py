@@ -45,8 +45,9 @@ def makeMesh(doc, inputs, analysis=None, cuts=(), name="OracleMesh", **job_optio
     edge_size, element_order (1 or 2), sharp_angle (degrees; 0/None/False = no sharp edges
     and junctions), junctions (bool), planar_faces (bool, thesis engine: planar faces stay flat),
     engine ("thesis", the default, or "cgal"), fineness ("moderate", the default, "off", "very coarse",
-    "coarse", "fine" or "very fine": sizes from the geometry), checks ("warn", the default, or
-    "error": a mesh that misses a part's volume, splits or joins parts is refused),
+    "coarse", "fine" or "very fine": sizes from the geometry), checks ("error", the default: a
+    mesh that misses a part's volume, splits or joins parts is refused; or "warn": kept, with
+    the problems as warnings),
     contact_tolerance (parts closer than this are bonded, farther apart they stay apart; 0, the
     default: the CAD's own tolerance, at least 1e-6 of the diagonal), optimize, seed, max_vertices, time_limit,
     whole_inputs (compounds meshed as one input instead of one part per solid), step_file

