@@ -3,7 +3,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "Geometry.h"
 
@@ -56,6 +59,14 @@ inline Triangles triangleBox(const Point3& low, double x, double y, double z) {
   out.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
   return out;
+}
+
+// A job input of `t` as a "surface" (points and triangles in the job).
+inline nlohmann::json surfaceInput(const std::string& name, const Triangles& t, int material) {
+  nlohmann::json points = nlohmann::json::array(), triangles = nlohmann::json::array();
+  for (const Point3& p : t.points) points.push_back({p[0], p[1], p[2]});
+  for (const auto& c : t.triangles) triangles.push_back({c[0], c[1], c[2]});
+  return {{"name", name}, {"surface", {{"points", points}, {"triangles", triangles}}}, {"material", material}};
 }
 
 }  // namespace oraclemesh::test

@@ -22,13 +22,6 @@ namespace {
 
 using nlohmann::json;
 
-json surfaceInput(const std::string& name, const test::Triangles& t, int material) {
-  json points = json::array(), triangles = json::array();
-  for (const Point3& p : t.points) points.push_back({p[0], p[1], p[2]});
-  for (const auto& c : t.triangles) triangles.push_back({c[0], c[1], c[2]});
-  return {{"name", name}, {"surface", {{"points", points}, {"triangles", triangles}}}, {"material", material}};
-}
-
 // At fineness "off" the small parts below lose volume: the self-check must say so.
 JobResult runWithFineness(json job, const std::string& fineness) {
   if (!fineness.empty()) job["criteria"] = {{"fineness", fineness}};
@@ -41,7 +34,7 @@ JobResult runWithFineness(json job, const std::string& fineness) {
 TEST(SizeFieldDiscrete, ASmallTriangleSurfacePinInALargeBlockKeepsItsVolumeAtTheDefault) {
   const TopoDS_Shape block = BRepPrimAPI_MakeBox(200, 200, 40).Shape();
   const json job = {{"inputs",
-                     {surfaceInput("pin", test::tessellatedCylinder({100, 100, -10}, 3, 60, 48), 1),
+                     {test::surfaceInput("pin", test::tessellatedCylinder({100, 100, -10}, 3, 60, 48), 1),
                       {{"name", "block"}, {"brep", test::brepText(block)}, {"material", 2}}}},
                     {"element_order", 2},  // mid nodes on the facets: the volume is the surface's
                     {"seed", 0}};
@@ -63,8 +56,8 @@ TEST(SizeFieldDiscrete, ASmallTriangleSurfacePinInALargeBlockKeepsItsVolumeAtThe
 // 1.4 mm at the cap would reach across and join them).
 TEST(SizeFieldDiscrete, TriangleSurfaceCubesHalfAMillimetreApartStayApart) {
   const json job = {{"inputs",
-                     {surfaceInput("lower", test::triangleBox({0, 0, 0}, 10, 10, 10), 1),
-                      surfaceInput("upper", test::triangleBox({0, 0, 10.5}, 10, 10, 10), 2)}},
+                     {test::surfaceInput("lower", test::triangleBox({0, 0, 0}, 10, 10, 10), 1),
+                      test::surfaceInput("upper", test::triangleBox({0, 0, 10.5}, 10, 10, 10), 2)}},
                     {"element_order", 1},
                     {"optimize", {{"perturb", false}}},
                     {"seed", 0}};

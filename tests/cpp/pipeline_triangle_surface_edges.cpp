@@ -21,13 +21,6 @@ namespace {
 
 using nlohmann::json;
 
-json surfaceInput(const std::string& name, const test::Triangles& t, int material) {
-  json points = json::array(), triangles = json::array();
-  for (const Point3& p : t.points) points.push_back({p[0], p[1], p[2]});
-  for (const auto& c : t.triangles) triangles.push_back({c[0], c[1], c[2]});
-  return {{"name", name}, {"surface", {{"points", points}, {"triangles", triangles}}}, {"material", material}};
-}
-
 // Distance from p to the surface of the box [low, low + size].
 double distanceToBoxSurface(const Point3& p, const Point3& low, const Point3& size) {
   double inside = std::numeric_limits<double>::infinity(), outside = 0;
@@ -41,7 +34,7 @@ double distanceToBoxSurface(const Point3& p, const Point3& low, const Point3& si
 
 TEST(TriangleSurfaceEdges, AnStlBoxAtTheDefaultsIsTheBox) {
   const Point3 low{0, 0, 0}, size{40, 20, 10};
-  json job = {{"inputs", {surfaceInput("box", test::triangleBox(low, size[0], size[1], size[2]), 1)}}, {"seed", 0}};
+  json job = {{"inputs", {test::surfaceInput("box", test::triangleBox(low, size[0], size[1], size[2]), 1)}}, {"seed", 0}};
   const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
   const double box = size[0] * size[1] * size[2];
   EXPECT_EQ(r.mesh.order(), 2);
@@ -80,7 +73,7 @@ TEST(TriangleSurfaceEdges, EdgesInsideAHigherInputAreClipped) {
   const TopoDS_Shape cover = BRepPrimAPI_MakeBox(gp_Pnt(30, -5, -5), gp_Pnt(50, 25, 15)).Shape();
   const json job = {{"inputs",
                      {{{"name", "cover"}, {"brep", test::brepText(cover)}, {"material", 2}},
-                      surfaceInput("box", test::triangleBox({0, 0, 0}, 40, 20, 10), 1)}},
+                      test::surfaceInput("box", test::triangleBox({0, 0, 0}, 40, 20, 10), 1)}},
                     {"seed", 0}};
   const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl());
   const auto volumes = test::volumePerMaterial(r.mesh);

@@ -21,9 +21,13 @@ constexpr int64_t P0 = 0, P1 = 1, P2 = 2, P3 = 3, Q = 4, R = 5;
 constexpr double kFlatness = 1e-9;  // absolute: the pyramids' diagonal is about 2
 constexpr double kVolumeBound = 1e-9;
 
-void orientAll(TetMesh& m) {
+// Every tet positive, the boundary listed, every vertex on a surface and on no curve.
+void finish(TetMesh& m) {
   for (auto& t : m.tets)
     if (test::orientation(m.points[t[0]], m.points[t[1]], m.points[t[2]], m.points[t[3]]) < 0) std::swap(t[0], t[1]);
+  m.boundary = extractBoundary(m);
+  m.vertex_dimension.assign(m.points.size(), 2);
+  m.vertex_curve.assign(m.points.size(), -1);
 }
 
 // `above` = 0: nothing above the cap; else a second pyramid of that material.
@@ -40,10 +44,7 @@ TetMesh cappedPyramid(double lift, int above = 0) {
   } else {
     m.points.pop_back();
   }
-  orientAll(m);
-  m.boundary = extractBoundary(m);
-  m.vertex_dimension.assign(m.points.size(), 2);
-  m.vertex_curve.assign(m.points.size(), -1);
+  finish(m);
   return m;
 }
 
@@ -187,10 +188,7 @@ TetMesh foldOnATet(double lift, bool wing) {
   if (wing) m.tets.push_back({P1, P2, E, F});
   else m.points.resize(5);
   m.tet_materials.assign(m.tets.size(), 1);
-  orientAll(m);
-  m.boundary = extractBoundary(m);
-  m.vertex_dimension.assign(m.points.size(), 2);
-  m.vertex_curve.assign(m.points.size(), -1);
+  finish(m);
   return m;
 }
 
