@@ -50,6 +50,12 @@ def test_bad_inputs_fail_cleanly(run_freecad):
     # Linking an object twice is said as soon as it is linked, not as a traceback.
     assert any("listed twice" in k for k in r["listed_twice"]["kinds"]), r["listed_twice"]
     assert r["recovered"], "the mesh did not recompute after the inputs were fixed"
+    kept = r["kept_with_warn"]
+    print("kept with warn:", kept["printed"])
+    assert kept["valid"] and kept["volumes"] > 0
+    short = [w for w in kept["warnings"] if "'pin'" in w.lower() and "less volume" in w]
+    assert short and all("InputSizes['Pin']" in w and "criteria.materials" not in w for w in short), kept
+    assert any(p.startswith("OracleMesh '") and short[0] in p for p in kept["printed"]), kept
     for case, words in REFUSED.items():
         c = r_all["refused"][case]
         print("makeMesh refused %-9s %s" % (case, c["message"]))

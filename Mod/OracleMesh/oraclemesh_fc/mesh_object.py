@@ -209,7 +209,7 @@ class OracleMeshProxy(StatelessProxy):
             result = run_job(job, obj.Label)
             femmesh = build_femmesh(result.points, result.tets, result.tet_materials, groups,
                                     [(s["name"], s["faces"]) for s in result.surfaces])
-            outputs = mesh_outputs(result, groups, described, femmesh, time.time() - started)
+            outputs = mesh_outputs(result, groups, described, polyline_names, femmesh, time.time() - started)
         except Exception as e:
             # The core names extra edges and materials by their place in the job: say which
             # edge and which part it is.
@@ -227,14 +227,19 @@ class OracleMeshProxy(StatelessProxy):
         obj.FeatureEdges, obj.FeatureEdgeMidNodes, obj.Report, status = outputs
         obj.FemMesh = femmesh
         obj.Status = status
-        for warning in cut_warnings(priority_entries(obj.Inputs, obj.Cuts)):
+        # The core's warnings (with Checks = warn, a part short of volume, split or joined is
+        # one) go to the report view as well as the task panel: a macro user sees them too.
+        warnings = json.loads(obj.Report).get("warnings", [])
+        for warning in warnings + cut_warnings(priority_entries(obj.Inputs, obj.Cuts)):
             FreeCAD.Console.PrintWarning("OracleMesh '%s': %s\n" % (obj.Label, warning))
 
 
-def mesh_outputs(result, groups, described, femmesh, wall_seconds):
+def mesh_outputs(result, groups, described, polyline_names, femmesh, wall_seconds):
     """(FeatureEdges, FeatureEdgeMidNodes, Report, Status) of a mesh: everything execute()
-    writes besides FemMesh, computed before anything is written."""
+    writes besides FemMesh, computed before anything is written. The report's warnings name
+    what the mesh object calls things (extra edges, InputSizes keys, the Checks property)."""
     report = dict(result.report)
+    report["warnings"] = [in_mesh_object_words(w, polyline_names, described) for w in report.get("warnings", [])]
     report["freecad"] = {
         "inputs": [{"name": p.key, "label": p.label, "role": role, "material": mid,
                     "group": next((g for g, ids in groups if mid in ids), None)}

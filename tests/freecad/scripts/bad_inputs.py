@@ -1,5 +1,6 @@
 """Bad inputs through FreeCAD: each must fail with a clear message, leave the previous mesh
 and the document as they were, and not crash FreeCAD; a fixed input must mesh again."""
+import json
 import os
 import sys
 
@@ -65,6 +66,19 @@ def check(params):
             setattr(mesh, k, v)
     doc.recompute()
     out["recovered"] = mesh.isValid() and mesh.FemMesh.VolumeCount > 0
+
+    # With Checks = warn the pin that fails its check is kept, and the problem reaches the
+    # report view as well as the report, in the mesh object's words.
+    printed = []
+    print_warning = FreeCAD.Console.PrintWarning
+    FreeCAD.Console.PrintWarning = printed.append
+    try:
+        mesh.Inputs, mesh.Checks, mesh.CellSize, mesh.Fineness = [pin], "warn", 30, "off"
+        doc.recompute()
+    finally:
+        FreeCAD.Console.PrintWarning = print_warning
+    out["kept_with_warn"] = {"valid": mesh.isValid(), "volumes": mesh.FemMesh.VolumeCount,
+                             "warnings": json.loads(mesh.Report).get("warnings", []), "printed": printed}
 
     # makeMesh refuses bad interface settings before it makes anything.
     refusals = {
