@@ -6,12 +6,16 @@
 #include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
 #include <GProp_GProps.hxx>
+#include <Poly_Triangulation.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -61,6 +65,33 @@ inline double volumeOf(const TopoDS_Shape& shape) {
   GProp_GProps props;
   BRepGProp::VolumeProperties(shape, props);
   return props.Mass();
+}
+
+// An ASCII STL of the shape's BRepMesh tessellation (BRepMesh_IncrementalMesh first), each
+// face's triangles turned with it; full precision, so nodes shared by faces stay shared.
+inline void writeTessellationStl(const TopoDS_Shape& shape, const std::string& path) {
+  std::ofstream out(path);
+  out.precision(17);
+  out << "solid tessellation\n";
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(ex.Current());
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    ASSERT_FALSE(tri.IsNull());
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    for (int t = 1; t <= tri->NbTriangles(); ++t) {
+      int n[3];
+      tri->Triangle(t).Get(n[0], n[1], n[2]);
+      if (reversed) std::swap(n[1], n[2]);
+      out << "facet normal 0 0 0\n outer loop\n";
+      for (int k : n) {
+        const gp_Pnt p = tri->Node(k).Transformed(loc.Transformation());
+        out << "  vertex " << p.X() << " " << p.Y() << " " << p.Z() << "\n";
+      }
+      out << " endloop\nendfacet\n";
+    }
+  }
+  out << "endsolid tessellation\n";
 }
 
 }  // namespace oraclemesh::test

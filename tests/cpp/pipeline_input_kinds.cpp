@@ -80,39 +80,13 @@ TEST(InputKinds, ThreePartAssemblyWithCutMatchesBooleanComposition) {
   }
 }
 
-// An ASCII STL of the shape's BRepMesh tessellation, triangles turned with their faces.
-void writeStl(const TopoDS_Shape& shape, const std::string& path) {
-  std::ofstream out(path);
-  out.precision(17);
-  out << "solid pin\n";
-  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(ex.Current());
-    TopLoc_Location loc;
-    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
-    ASSERT_FALSE(tri.IsNull());
-    const bool reversed = face.Orientation() == TopAbs_REVERSED;
-    for (int t = 1; t <= tri->NbTriangles(); ++t) {
-      int n[3];
-      tri->Triangle(t).Get(n[0], n[1], n[2]);
-      if (reversed) std::swap(n[1], n[2]);
-      out << "facet normal 0 0 0\n outer loop\n";
-      for (int k : n) {
-        const gp_Pnt p = tri->Node(k).Transformed(loc.Transformation());
-        out << "  vertex " << p.X() << " " << p.Y() << " " << p.Z() << "\n";
-      }
-      out << " endloop\nendfacet\n";
-    }
-  }
-  out << "endsolid pin\n";
-}
-
 TEST(InputKinds, StlPinMeshesWithTheVolumeOfTheBrepPin) {
   // The demo's pin, tessellated finely (chord error 1e-3 mm on radius 5: the polygon's volume
   // is 0.04 % under the cylinder's), meshed from the STL and from the B-rep.
   const TopoDS_Shape pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(30, 30, -10), gp_Dir(0, 0, 1)), 5, 30).Shape();
   BRepMesh_IncrementalMesh(pin, 1e-3, Standard_False, 0.05, Standard_False);
   const std::string stl = (std::filesystem::temp_directory_path() / "oraclemesh_demo_pin.stl").string();
-  writeStl(pin, stl);
+  test::writeTessellationStl(pin, stl);
 
   auto volumeFrom = [](const nlohmann::json& input) {
     const nlohmann::json job = {

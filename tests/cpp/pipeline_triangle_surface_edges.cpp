@@ -3,15 +3,19 @@
 // them off (1.6 % of its volume in tet10) and the self-check refused it.
 #include <gtest/gtest.h>
 
+#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <set>
 
 #include "discrete_shapes.h"
+#include "domain/BrepSolid.h"
 #include "job/Pipeline.h"
 #include "mesh_checks.h"
 #include "occt_checks.h"
@@ -88,6 +92,30 @@ TEST(TriangleSurfaceEdges, EdgesInsideAHigherInputAreClipped) {
                              middle[2] > -5 + 1e-9 && middle[2] < 15 - 1e-9;
     EXPECT_FALSE(insideCover) << middle[0] << " " << middle[1] << " " << middle[2];
   }
+}
+
+// part.step as a CAD program exports it to STL (OpenCASCADE's tessellation, chord 0.1 mm, 30
+// degrees): a slot's end is tessellated so that its line of sharp edges turns back on itself
+// by 178 degrees at one vertex. Taken as one line, that 2-degree angle was no input angle:
+// both engines refined there without end (the thesis engine over 60,000 vertices, Mesh_3's
+// protection never done). The turn is a corner now, and the job ends at once.
+TEST(TriangleSurfaceEdges, PartStepExportedAsStlMeshesAtTheDefaults) {
+  const TopoDS_Shape part = BrepSolid::fromFile(test::cadDir() + "/part.step", "part")->shape();
+  BRepMesh_IncrementalMesh(part, 0.1, Standard_False, 0.5236, Standard_False);
+  const std::string stl = (std::filesystem::temp_directory_path() / "oraclemesh_part_step.stl").string();
+  test::writeTessellationStl(part, stl);
+  const json job = {{"inputs", {{{"name", "part"}, {"file", stl}, {"material", 1}}}}, {"seed", 0}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl({}, 60));  // a second or two; the hang ends here
+  std::remove(stl.c_str());
+  const json& part1 = r.report.at("self_check").at("materials").at("1");
+  std::cout << "[figures] part.step as STL, defaults: " << r.mesh.tets.size() << " tets, "
+            << r.report.at("features").at("polylines") << " polylines, volume "
+            << 100 * part1.at("deviation").get<double>() << " %, min dihedral "
+            << r.report.at("quality").at("min_dihedral_deg") << "\n";
+  EXPECT_TRUE(r.report.at("self_check").at("ok").get<bool>());
+  EXPECT_LT(std::abs(part1.at("deviation").get<double>()), 0.005);
+  EXPECT_GE(r.report.at("features").at("sharp_edge_polylines").get<int>(), 20);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(r.mesh), 0);
 }
 
 }  // namespace

@@ -76,7 +76,19 @@ FeatureGraph extractTriangleSurfaceSharpEdges(const TriangleSurface& surface, in
 
   const int64_t n = static_cast<int64_t>(points.size());
   std::vector<char> corner(n, 0);
-  for (int64_t v = 0; v < n; ++v) corner[v] = !neighbours[v].empty() && neighbours[v].size() != 2;
+  for (int64_t v = 0; v < n; ++v) {
+    const auto& w = neighbours[v];
+    if (w.empty()) continue;
+    if (w.size() != 2) {
+      corner[v] = 1;
+      continue;
+    }
+    // A line that turns sharply here meets itself at an input angle (a hairpin at a thin
+    // slot's end turns by 178 degrees in part.step's tessellation): the vertex is a corner,
+    // so that the angle is seen (InputAngles) and the engines protect it.
+    const Point3 in = unitOr0(points[v] - points[w[0]]), out = unitOr0(points[w[1]] - points[v]);
+    corner[v] = dot(in, out) < cosSharp;
+  }
 
   std::map<std::pair<int64_t, int64_t>, char> walked;
   auto walk = [&](int64_t from, int64_t to) {

@@ -10,10 +10,9 @@
 namespace oraclemesh {
 
 // Polylines along the surface's edges whose two triangles' outward normals differ by more than
-// `sharpAngleDeg`. They run between corners, the vertices where the number of sharp edges is
-// not two; a closed line of sharp edges with no corner is one polyline from and back to its
-// lowest-numbered vertex. (A line that kinks at a vertex of two sharp edges stays one
-// polyline: the kink is kept, as every vertex is, but is no input angle of the report.)
+// `sharpAngleDeg`. They run between corners: vertices where the number of sharp edges is not
+// two, or where the line turns by more than `sharpAngleDeg`; a closed line of sharp edges with
+// no corner is one polyline from and back to its lowest-numbered vertex.
 // Every surface vertex on them is a polyline point (the surface's edges are the curve: a point
 // on a chord is on the surface), and segments longer than the local edge size are split
 // evenly: `maxSegmentLength`, or `localSegmentLength` at the segment's middle when given and
