@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -90,18 +91,18 @@ FeatureGraph extractTriangleSurfaceSharpEdges(const TriangleSurface& surface, in
     corner[v] = dot(in, out) < cosSharp;
   }
 
-  std::map<std::pair<int64_t, int64_t>, char> walked;
+  std::set<std::pair<int64_t, int64_t>> walked;
   auto walk = [&](int64_t from, int64_t to) {
     std::vector<int64_t> line{from};
     int64_t previous = from, current = to;
-    walked[std::minmax(previous, current)] = 1;
+    walked.insert(std::minmax(previous, current));
     while (current != from && !corner[current]) {
       line.push_back(current);
       const auto& w = neighbours[current];
       const int64_t next = w[0] == previous ? w[1] : w[0];
       previous = current;
       current = next;
-      walked[std::minmax(previous, current)] = 1;
+      walked.insert(std::minmax(previous, current));
     }
     line.push_back(current);
     return line;
