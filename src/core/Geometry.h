@@ -20,6 +20,11 @@ inline Point3 cross(const Point3& a, const Point3& b) {
 inline double norm(const Point3& a) { return std::sqrt(dot(a, a)); }
 inline bool isFinite(const Point3& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
 inline double distance(const Point3& a, const Point3& b) { return norm(a - b); }
+// The unit vector along a; the zero vector for the zero vector.
+inline Point3 unit(const Point3& a) {
+  const double n = norm(a);
+  return n > 0 ? (1.0 / n) * a : Point3{0, 0, 0};
+}
 
 // Distance from p to the segment ab; `parameter` (if given) gets the nearest point's position
 // along it, 0 at a and 1 at b.

@@ -35,8 +35,8 @@ void CurveRegistry::addPolylines(const FeatureGraph& graph, const std::shared_pt
     std::shared_ptr<const std::vector<Point3>> polyline;
     if (pl.user >= 0)
       polyline = userPolylines[pl.user];
-    else if (pl.source >= 0 && pl.edge < 0 && pl.junction < 0)
-      polyline = std::make_shared<const std::vector<Point3>>(pl.points);  // a triangle surface's edges
+    else if (isTriangleSurfaceEdge(pl))
+      polyline = std::make_shared<const std::vector<Point3>>(pl.points);
     origins_[pl.curve] = {pl.source, pl.edge, pl.junction, pl.junction >= 0 ? junctions : nullptr, std::move(polyline),
                           pl.user >= 0 && pl.user < static_cast<int>(userCurves.size()) ? userCurves[pl.user] : nullptr};
   }

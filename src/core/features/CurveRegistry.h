@@ -30,9 +30,9 @@ class CurveRegistry {
   void addUserPolyline(int curve, std::shared_ptr<const std::vector<Point3>> polyline,
                        std::shared_ptr<const UserCurve> exact);
   // Registers every polyline of `graph` by its origin fields (FeaturePolyline::source, ::edge,
-  // ::junction, ::user; a source with none of the others is a triangle surface's, and the
-  // polyline is its own curve). `userPolylines` and `userCurves` are indexed by
-  // FeaturePolyline::user (userCurves may hold nulls).
+  // ::junction, ::user; isTriangleSurfaceEdge: the polyline is its own curve).
+  // `userPolylines` and `userCurves` are indexed by FeaturePolyline::user (userCurves may hold
+  // nulls).
   void addPolylines(const FeatureGraph& graph, const std::shared_ptr<const JunctionCurves>& junctions,
                     const std::vector<std::shared_ptr<const std::vector<Point3>>>& userPolylines,
                     const std::vector<std::shared_ptr<const UserCurve>>& userCurves);

@@ -16,6 +16,12 @@ struct FeaturePolyline {
   int user = -1;               // index into the job's features.polylines for a user polyline
 };
 
+// A triangle surface's sharp edges (TriangleSurfaceSharpEdges): a source and none of edge,
+// junction and user; the polyline is its own exact curve.
+inline bool isTriangleSurfaceEdge(const FeaturePolyline& pl) {
+  return pl.source >= 0 && pl.edge < 0 && pl.junction < 0 && pl.user < 0;
+}
+
 struct FeatureGraph {
   std::vector<FeaturePolyline> polylines;
   bool empty() const { return polylines.empty(); }

@@ -16,18 +16,13 @@ constexpr double kPi = 3.14159265358979323846;
 // against the model before features are made; this only bounds a pathological request).
 constexpr int64_t kMaxPiecesPerEdge = 100000;
 
-Point3 unitOr0(const Point3& v) {
-  const double n = norm(v);
-  return n > 0 ? (1.0 / n) * v : Point3{0, 0, 0};
-}
-
 // Sharp-edge neighbours of every surface vertex, each list ascending.
 std::vector<std::vector<int64_t>> sharpNeighbours(const std::vector<Point3>& points,
                                                    const std::vector<std::array<int64_t, 3>>& triangles,
                                                    double cosSharp) {
   std::vector<Point3> normals;
   normals.reserve(triangles.size());
-  for (const auto& t : triangles) normals.push_back(unitOr0(cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]])));
+  for (const auto& t : triangles) normals.push_back(unit(cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]])));
   std::map<std::pair<int64_t, int64_t>, std::vector<size_t>> trianglesOfEdge;
   for (size_t i = 0; i < triangles.size(); ++i)
     for (int k = 0; k < 3; ++k) {
@@ -87,7 +82,7 @@ FeatureGraph extractTriangleSurfaceSharpEdges(const TriangleSurface& surface, in
     // A line that turns sharply here meets itself at an input angle (a hairpin at a thin
     // slot's end turns by 178 degrees in part.step's tessellation): the vertex is a corner,
     // so that the angle is seen (InputAngles) and the engines protect it.
-    const Point3 in = unitOr0(points[v] - points[w[0]]), out = unitOr0(points[w[1]] - points[v]);
+    const Point3 in = unit(points[v] - points[w[0]]), out = unit(points[w[1]] - points[v]);
     corner[v] = dot(in, out) < cosSharp;
   }
 

@@ -1,6 +1,7 @@
 #include "improve/FlatCaps.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -60,15 +61,19 @@ struct Cap {
   bool curved = false;  // flat only within the curved caps' relative flatness
 };
 
-// Two faces of one kind (outer, or one interface) and two inner faces; else a = -1.
-Cap capOf(const ImprovementMesh& mesh, int64_t t) {
+// What lies across each face of tet t, the face opposite corner i at i.
+using FaceSides = std::array<FaceNeighbour, 4>;
+FaceSides sidesOf(const ImprovementMesh& mesh, int64_t t) {
   const TetCorners& k = mesh.tet(t);
-  FaceNeighbour sides[4];
+  FaceSides sides;
+  for (int i = 0; i < 4; ++i) sides[i] = neighbourAcross(mesh, t, k[(i + 1) % 4], k[(i + 2) % 4], k[(i + 3) % 4]);
+  return sides;
+}
+
+// Two faces of one kind (outer, or one interface) and two inner faces; else a = -1.
+Cap capOf(const TetCorners& k, const FaceSides& sides) {
   std::vector<int> capCorners, innerCorners;  // the corner each face is opposite to
-  for (int i = 0; i < 4; ++i) {
-    sides[i] = neighbourAcross(mesh, t, k[(i + 1) % 4], k[(i + 2) % 4], k[(i + 3) % 4]);
-    (sides[i].side == FaceSide::Inner ? innerCorners : capCorners).push_back(i);
-  }
+  for (int i = 0; i < 4; ++i) (sides[i].side == FaceSide::Inner ? innerCorners : capCorners).push_back(i);
   if (capCorners.size() != 2) return {};
   const FaceNeighbour& first = sides[capCorners[0]];
   const FaceNeighbour& second = sides[capCorners[1]];
@@ -79,14 +84,12 @@ Cap capOf(const ImprovementMesh& mesh, int64_t t) {
 
 // The corner shared by the three outer faces of a tet whose fourth face is inner (a fold: the
 // outer faces are both triangulations of a quad of the surface, or a pinch), else -1.
-int64_t foldCornerOf(const ImprovementMesh& mesh, int64_t t) {
-  const TetCorners& k = mesh.tet(t);
+int64_t foldCornerOf(const TetCorners& k, const FaceSides& sides) {
   int64_t corner = -1;
   int outer = 0;
   for (int i = 0; i < 4; ++i) {
-    const FaceNeighbour n = neighbourAcross(mesh, t, k[(i + 1) % 4], k[(i + 2) % 4], k[(i + 3) % 4]);
-    if (n.side == FaceSide::Outer) ++outer;
-    else if (n.side == FaceSide::Inner) corner = k[i];
+    if (sides[i].side == FaceSide::Outer) ++outer;
+    else if (sides[i].side == FaceSide::Inner) corner = k[i];
   }
   return outer == 3 ? corner : -1;
 }
@@ -127,9 +130,11 @@ class CapRemoval {
       if (!work_.alive(t)) continue;
       const double flatness = flatnessOf(work_.tet(t));
       if (!thinEnough(work_.tet(t), flatness)) continue;
-      if (const int64_t corner = foldCornerOf(work_, t); corner >= 0) {
-        const bool curved = height(work_.tet(t)) > flatness_;
-        const bool done = removeFold(t, corner, curved);
+      const FaceSides sides = sidesOf(work_, t);
+      if (const int64_t corner = foldCornerOf(work_.tet(t), sides); corner >= 0) {
+        const double h = height(work_.tet(t));
+        const bool curved = h > flatness_;
+        const bool done = h <= flatness && removeFold(t, corner, curved);
         if (!apply) {
           stats.caps_kept += !done;
         } else if (done) {
@@ -139,7 +144,7 @@ class CapRemoval {
         }
         continue;
       }
-      Cap cap = capOf(work_, t);
+      Cap cap = capOf(work_.tet(t), sides);
       if (cap.a < 0 || !isFlat(work_.points(), cap, flatness)) continue;
       cap.curved = !isFlat(work_.points(), cap, flatness_);
       const bool done = cap.across.side == FaceSide::Outer ? removeOuter(t, cap) : flipInterface(t, cap);
@@ -209,13 +214,12 @@ class CapRemoval {
     (curved ? curved_moved_ : moved_)[material] += volume;
   }
 
-  // A fold taken out: its inner face becomes the boundary. The edges at `corner` lose the
-  // tet's two outer faces at each, so they keep two boundary faces (or vanish with the tet,
-  // unless one is a feature edge). The corner must stay in a tet, and its other tets one fan
-  // (else the surface would pinch there).
+  // A flat fold taken out: its inner face becomes the boundary. The edges at `corner` lose
+  // the tet's two outer faces at each, so they keep two boundary faces (or vanish with the
+  // tet, unless one is a feature edge). The corner must stay in a tet, and its other tets one
+  // fan (else the surface would pinch there).
   bool removeFold(int64_t t, int64_t corner, bool curved) {
     const int material = work_.material(t);
-    if (height(work_.tet(t)) > flatnessOf(work_.tet(t))) return false;
     for (int64_t v : work_.tet(t))
       if (v != corner && work_.isProtectedEdge(corner, v) && work_.tetsAroundEdge(corner, v).size() == 1) return false;
     if (!oneFanWithout(corner, t)) return false;

@@ -14,11 +14,6 @@ namespace {
 // usable density is far outside it.
 constexpr double kFlatTolerance = 1e-9;
 
-Point3 unit(const Point3& v) {
-  const double n = norm(v);
-  return n > 0 ? (1.0 / n) * v : Point3{0, 0, 0};
-}
-
 }  // namespace
 
 std::array<int64_t, 3> ImprovementMesh::faceKey(int64_t a, int64_t b, int64_t c) {

@@ -129,8 +129,7 @@ AssembledFeatures assembleFeatures(const JobSpec& job, const HierarchicalOracle&
 FeatureReport describeFeatures(const JobSpec& job, const AssembledFeatures& features) {
   FeatureReport report;
   for (const FeaturePolyline& pl : features.graph.polylines) {
-    // Sharp edges of B-rep solids and of triangle surfaces (no B-rep edge, junction or user curve).
-    report.sharp_edge_polylines += pl.edge >= 0 || (pl.source >= 0 && pl.junction < 0 && pl.user < 0);
+    report.sharp_edge_polylines += pl.edge >= 0 || isTriangleSurfaceEdge(pl);
     report.junction_polylines += pl.junction >= 0;
     report.user_polylines += pl.user >= 0;
   }
