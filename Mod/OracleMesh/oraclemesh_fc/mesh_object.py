@@ -224,20 +224,20 @@ class OracleMeshProxy(StatelessProxy):
                 show_error(message)
             raise MeshingFailed(message) from None
         obj.InputKinds = kinds
-        obj.FeatureEdges, obj.FeatureEdgeMidNodes, obj.Report, status = outputs
+        obj.FeatureEdges, obj.FeatureEdgeMidNodes, obj.Report, status, warnings = outputs
         obj.FemMesh = femmesh
         obj.Status = status
         # The core's warnings (with Checks = warn, a part short of volume, split or joined is
         # one) go to the report view as well as the task panel: a macro user sees them too.
-        warnings = json.loads(obj.Report).get("warnings", [])
         for warning in warnings + cut_warnings(priority_entries(obj.Inputs, obj.Cuts)):
             FreeCAD.Console.PrintWarning("OracleMesh '%s': %s\n" % (obj.Label, warning))
 
 
 def mesh_outputs(result, groups, described, polyline_names, femmesh, wall_seconds):
-    """(FeatureEdges, FeatureEdgeMidNodes, Report, Status) of a mesh: everything execute()
-    writes besides FemMesh, computed before anything is written. The report's warnings name
-    what the mesh object calls things (extra edges, InputSizes keys, the Checks property)."""
+    """(FeatureEdges, FeatureEdgeMidNodes, Report, Status, the report's warnings) of a mesh:
+    everything execute() writes or prints besides FemMesh, computed before anything is
+    written. The warnings name what the mesh object calls things (extra edges, InputSizes
+    keys, the Checks property)."""
     report = dict(result.report)
     report["warnings"] = [in_mesh_object_words(w, polyline_names, described) for w in report.get("warnings", [])]
     report["freecad"] = {
@@ -257,7 +257,7 @@ def mesh_outputs(result, groups, described, polyline_names, femmesh, wall_second
         ", ".join("%s %d" % (femmesh.getGroupName(g), len(femmesh.getGroupElements(g)))
                   for g in volume_groups),
         len(femmesh.Groups) - len(volume_groups))
-    return edges, mids, json.dumps(report, indent=1, sort_keys=True), status
+    return edges, mids, json.dumps(report, indent=1, sort_keys=True), status, report["warnings"]
 
 
 def is_cancel(error):
