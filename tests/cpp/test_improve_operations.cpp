@@ -2,7 +2,8 @@
 // on the unit circle in z = 0 and two apexes d = (0,0,h), e = (0,0,-h). At h = 0.2 the two
 // tets abcd, abce are flat (21.8 degrees) and the three around de are better (43.6); at h = 1
 // the three around de (39.2) are worse than the two (63.4). Edge removal: five or six points on
-// the unit circle around the axis de. Smoothing: a fan over a planar boundary patch.
+// the unit circle around the axis de. Smoothing and edge collapse: a fan over a planar
+// boundary patch.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include "RunControl.h"
 #include "improve/BoundaryPlacement.h"
+#include "improve/EdgeCollapse.h"
 #include "improve/EdgeRemoval.h"
 #include "improve/FaceRemoval.h"
 #include "improve/ImprovementMesh.h"
@@ -419,23 +421,29 @@ TEST(ImproveSmoothing, CornerNeverMoves) {
   EXPECT_FALSE(smoothVertex(work, 0));
 }
 
-// The cube [-1, 1]^3 as twelve tets joining its boundary triangles to an interior vertex v
-// placed off centre: v moves freely, towards the centre, and the volume stays 8.
-TEST(ImproveSmoothing, InteriorVertexMovesFreely) {
+// The cube [-1, 1]^3 as twelve tets joining its boundary triangles (each face split through
+// its corners 0 or 7) to an interior vertex v = 8 at `v`.
+TetMesh cubeFannedFrom(const Point3& v) {
   TetMesh m;
   for (int i = 0; i < 8; ++i) m.points.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
-  m.points.push_back({0.6, 0.2, -0.3});
-  const int64_t v = 8;
+  m.points.push_back(v);
   const int64_t quads[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
   for (const auto& q : quads)
     for (const auto& f : {std::array<int64_t, 3>{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}) {
-      m.tets.push_back({f[0], f[1], f[2], v});
+      m.tets.push_back({f[0], f[1], f[2], 8});
       m.tet_materials.push_back(1);
       m.boundary.push_back({f, 1, 0});
     }
   orientAll(m);
   m.vertex_dimension = {0, 0, 0, 0, 0, 0, 0, 0, 3};
   m.vertex_curve.assign(9, -1);
+  return m;
+}
+
+// v placed off centre moves freely, towards the centre, and the volume stays 8.
+TEST(ImproveSmoothing, InteriorVertexMovesFreely) {
+  TetMesh m = cubeFannedFrom({0.6, 0.2, -0.3});
+  const int64_t v = 8;
   const TetMesh before = m;
   ImprovementMesh work(m);
   ASSERT_EQ(work.mobility(v).freedom, VertexFreedom::Free);
@@ -443,6 +451,84 @@ TEST(ImproveSmoothing, InteriorVertexMovesFreely) {
   ASSERT_TRUE(smoothVertex(work, v));
   EXPECT_LT(norm(m.points[v]), norm(before.points[v]));
   EXPECT_GT(minDihedralOf(m), q0);
+  expectValid(before, m);
+  EXPECT_NEAR(test::volumePerMaterial(m).at(1), 8.0, 1e-12);
+}
+
+// v at (0.95, -0.9, 0), next to the base corner (1, -1, 0): the short edge makes two flat tets
+// that smoothing in the plane would have to undo; the collapse takes v out instead.
+TEST(ImproveCollapse, PlanarVertexGoesOntoACornerOfItsPatch) {
+  const TetMesh before = pyramidFannedFrom({0.95, -0.9, 0}, {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}});
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Planar);
+  EXPECT_FALSE(collapseEdge(work, 0, 5));  // the apex is off the patch
+  ASSERT_TRUE(collapseEdge(work, 0, 2));
+  EXPECT_TRUE(work.removed(0));
+  const std::vector<int64_t> previous = work.writeBack(m);
+  EXPECT_EQ(previous, (std::vector<int64_t>{1, 2, 3, 4, 5}));
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_EQ(m.vertex_dimension.size(), 5u);
+  EXPECT_EQ(m.vertex_curve.size(), 5u);
+  EXPECT_EQ(m.tets.size(), 2u);  // the square pyramid as two tets
+  EXPECT_EQ(m.boundary.size(), 6u);
+  EXPECT_GT(minDihedralOf(m), minDihedralOf(before) + 20);
+  expectValid(before, m);
+}
+
+TEST(ImproveCollapse, VertexOfTwoInterfacesStays) {
+  TetMesh m = pyramidFannedFrom({0.95, -0.9, 0}, {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}});
+  m.boundary[0].material_out = 2;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Fixed);
+  for (int64_t u = 1; u < 6; ++u) EXPECT_FALSE(collapseEdge(work, 0, u));
+}
+
+// A straight feature curve across the base from (-1, 0, 0) through v at (0.9, 0, 0) to
+// (1, 0, 0): v goes onto its curve neighbour (1, 0, 0) only when the curve segment that makes,
+// 2 long, is within the edge size; the curve is then one feature edge of the mesh.
+TEST(ImproveCollapse, FeatureVertexGoesAlongItsLineWithinTheEdgeSize) {
+  TetMesh m = pyramidFannedFrom({0.9, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
+  m.feature_edges = {{1, 0}, {0, 3}};
+  m.feature_edge_curves = {7, 7};
+  m.vertex_dimension[0] = 1;
+  m.vertex_curve[0] = 7;
+  const TetMesh before = m;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
+  // The base triangles grow from circumradius 0.95 to 1 (v and corner 1 are on their circles).
+  auto sizes = [](double edge, double facet) {
+    return CollapseSizes{[edge](const Point3&) { return edge; }, [facet](int, const Point3&) { return facet; }};
+  };
+  EXPECT_FALSE(collapseEdge(work, 0, 3));  // no sizes: curve vertices stay
+  EXPECT_FALSE(collapseEdge(work, 0, 3, sizes(1.9, 1.001)));
+  EXPECT_FALSE(collapseEdge(work, 0, 3, sizes(2, 0.99)));
+  EXPECT_FALSE(collapseEdge(work, 0, 2, sizes(5, 5)));  // not along the curve
+  ASSERT_TRUE(collapseEdge(work, 0, 3, sizes(2, 1.001)));
+  work.writeBack(m);
+  ASSERT_EQ(m.feature_edges.size(), 1u);
+  EXPECT_EQ(std::minmax(m.feature_edges[0][0], m.feature_edges[0][1]), std::minmax<int64_t>(0, 2));  // old 1 and 3
+  EXPECT_EQ(m.feature_edge_curves, std::vector<int>{7});
+  EXPECT_GT(minDihedralOf(m), minDihedralOf(before));
+  expectValid(before, m);
+}
+
+// The cube fanned from v at (0.9, 0.9, 0.9): onto the corner (1, 1, 1), whose three faces are
+// split through it, the cube becomes six tets fanned from that corner; onto (1, -1, -1) a tet
+// would be flat (a face diagonal misses that corner).
+TEST(ImproveCollapse, InteriorVertexGoesOntoACornerOnlyWhereNoTetGoesFlat) {
+  TetMesh m = cubeFannedFrom({0.9, 0.9, 0.9});
+  const int64_t v = 8;
+  const TetMesh before = m;
+  ImprovementMesh work(m);
+  ASSERT_EQ(work.mobility(v).freedom, VertexFreedom::Free);
+  EXPECT_FALSE(collapseEdge(work, v, 1));
+  ASSERT_TRUE(collapseEdge(work, v, 7));
+  work.writeBack(m);
+  EXPECT_EQ(m.points.size(), 8u);
+  EXPECT_EQ(m.tets.size(), 6u);
+  EXPECT_EQ(m.boundary.size(), 12u);
+  EXPECT_GT(minDihedralOf(m), minDihedralOf(before));
   expectValid(before, m);
   EXPECT_NEAR(test::volumePerMaterial(m).at(1), 8.0, 1e-12);
 }

@@ -5,6 +5,7 @@
 
 #include "Error.h"
 #include "mesh/Quality.h"
+#include "mesh/Topology.h"
 
 namespace oraclemesh {
 namespace {
@@ -35,6 +36,7 @@ ImprovementMesh::ImprovementMesh(TetMesh& mesh, const BoundaryPlacement* placeme
   for (const auto& e : mesh.feature_edges) protected_edges_.insert({std::min(e[0], e[1]), std::max(e[0], e[1]), -1});
   classifyVertices(mesh);
   changed_at_.assign(points_.size(), 0);
+  collapsed_into_.assign(points_.size(), -1);
   if (placement_)
     for (size_t t = 0; t < tets_.size(); ++t) {
       const TetCorners& c = tets_[t];
@@ -200,7 +202,99 @@ std::vector<int64_t> ImprovementMesh::replace(const std::vector<int64_t>& old, c
   return added;
 }
 
-void ImprovementMesh::writeBack(TetMesh& mesh) const {
+std::vector<std::array<int64_t, 3>> ImprovementMesh::facesAt(int64_t v) const {
+  std::vector<std::array<int64_t, 3>> faces;
+  for (int64_t t : vertex_tets_[v]) {
+    const TetCorners& c = tets_[t];
+    for (int skip = 0; skip < 4; ++skip) {
+      if (c[skip] == v) continue;
+      std::array<int64_t, 3> f;
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[j++] = c[k];
+      const auto key = faceKey(f[0], f[1], f[2]);
+      if (std::find(faces.begin(), faces.end(), key) == faces.end()) faces.push_back(key);
+    }
+  }
+  return faces;
+}
+
+std::vector<std::array<int64_t, 3>> ImprovementMesh::outerFacesAt(int64_t v) const {
+  std::vector<std::array<int64_t, 3>> outer;
+  for (const auto& f : facesAt(v))
+    if (tetsWithFace(f[0], f[1], f[2]).size() == 1) outer.push_back(f);
+  return outer;
+}
+
+void ImprovementMesh::collapse(int64_t v, int64_t u) {
+  ++clock_;
+  const std::vector<int64_t> star = vertex_tets_[v];
+  std::vector<int64_t> around;  // every vertex of v's tets
+  for (int64_t t : star)
+    for (int64_t w : tets_[t]) {
+      changed_at_[w] = clock_;
+      if (std::find(around.begin(), around.end(), w) == around.end()) around.push_back(w);
+    }
+  // Protected faces and edges at v: renamed, or gone when they have u too.
+  std::vector<std::array<int64_t, 3>> renamedFaces;
+  for (auto f : facesAt(v)) {
+    if (!protected_faces_.erase(f)) continue;
+    if (std::find(f.begin(), f.end(), u) != f.end()) continue;
+    for (int64_t& w : f)
+      if (w == v) w = u;
+    renamedFaces.push_back(faceKey(f[0], f[1], f[2]));
+  }
+  for (const auto& f : renamedFaces) protected_faces_.insert(f);
+  int64_t otherFeatureNeighbour = -1;
+  for (int64_t w : around) {
+    if (w == v || !protected_edges_.erase({std::min(v, w), std::max(v, w), -1})) continue;
+    if (w == u) continue;
+    protected_edges_.insert({std::min(u, w), std::max(u, w), -1});
+    otherFeatureNeighbour = w;
+  }
+  // The tets: those with u go, the others have u for v.
+  for (int64_t t : star) {
+    TetCorners& c = tets_[t];
+    if (std::find(c.begin(), c.end(), u) != c.end()) {
+      alive_[t] = 0;
+      for (int64_t w : c) {
+        if (w == v) continue;
+        auto& list = vertex_tets_[w];
+        list.erase(std::find(list.begin(), list.end(), t));
+      }
+      continue;
+    }
+    for (int64_t& w : c)
+      if (w == v) w = u;
+    vertex_tets_[u].push_back(t);
+  }
+  vertex_tets_[v].clear();
+  // What bounds the neighbours' moves: their boundary triangles and feature neighbours.
+  for (int64_t w : around) {
+    if (w == v) continue;
+    VertexMobility& m = mobility_[w];
+    for (auto& tri : m.boundary_triangles)
+      for (int64_t& x : tri)
+        if (x == v) x = u;
+    m.boundary_triangles.erase(std::remove_if(m.boundary_triangles.begin(), m.boundary_triangles.end(),
+                                              [](const std::array<int64_t, 3>& tri) {
+                                                return tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2];
+                                              }),
+                               m.boundary_triangles.end());
+    for (int64_t& x : m.feature_neighbours)
+      if (x == v) x = w == u ? otherFeatureNeighbour : u;
+  }
+  VertexMobility& onto = mobility_[u];
+  if (onto.freedom == VertexFreedom::Planar || onto.freedom == VertexFreedom::Curved ||
+      onto.freedom == VertexFreedom::OnCurve)
+    for (const auto& f : renamedFaces)
+      if (std::find(onto.boundary_triangles.begin(), onto.boundary_triangles.end(), f) == onto.boundary_triangles.end())
+        onto.boundary_triangles.push_back(f);
+  mobility_[v] = VertexMobility{};
+  collapsed_into_[v] = u;
+  ++removed_vertices_;
+}
+
+std::vector<int64_t> ImprovementMesh::writeBack(TetMesh& mesh) const {
   mesh.tets.clear();
   mesh.tet_materials.clear();
   for (size_t t = 0; t < tets_.size(); ++t)
@@ -208,6 +302,44 @@ void ImprovementMesh::writeBack(TetMesh& mesh) const {
       mesh.tets.push_back(tets_[t]);
       mesh.tet_materials.push_back(materials_[t]);
     }
+  if (removed_vertices_ == 0) return {};
+  const size_t n = collapsed_into_.size();
+  auto finalVertex = [&](int64_t v) {
+    while (collapsed_into_[v] >= 0) v = collapsed_into_[v];
+    return v;
+  };
+  std::vector<int64_t> newIndex(n, -1), oldIndex;
+  for (size_t v = 0; v < n; ++v)
+    if (collapsed_into_[v] < 0) {
+      newIndex[v] = static_cast<int64_t>(oldIndex.size());
+      oldIndex.push_back(static_cast<int64_t>(v));
+    }
+  for (auto& c : mesh.tets)
+    for (int64_t& v : c) v = newIndex[v];
+  std::vector<std::array<int64_t, 2>> edges;
+  std::vector<int> curves;
+  for (size_t i = 0; i < mesh.feature_edges.size(); ++i) {
+    const int64_t a = finalVertex(mesh.feature_edges[i][0]), b = finalVertex(mesh.feature_edges[i][1]);
+    if (a == b) continue;  // the collapsed edge itself
+    edges.push_back({newIndex[a], newIndex[b]});
+    if (i < mesh.feature_edge_curves.size()) curves.push_back(mesh.feature_edge_curves[i]);
+  }
+  mesh.feature_edges = std::move(edges);
+  if (!mesh.feature_edge_curves.empty()) mesh.feature_edge_curves = std::move(curves);
+  auto compact = [&](auto& perVertex) {
+    if (perVertex.size() != n) return;
+    std::remove_reference_t<decltype(perVertex)> kept;
+    kept.reserve(oldIndex.size());
+    for (int64_t v : oldIndex) kept.push_back(perVertex[v]);
+    perVertex = std::move(kept);
+  };
+  compact(mesh.points);
+  compact(mesh.vertex_dimension);
+  compact(mesh.vertex_curve);
+  compact(mesh.vertex_boundary_entry);
+  mesh.boundary.clear();  // in the old numbering
+  mesh.boundary = extractBoundary(mesh);
+  return oldIndex;
 }
 
 }  // namespace oraclemesh

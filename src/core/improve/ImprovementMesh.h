@@ -2,7 +2,8 @@
 // The tetrahedral mesh as the improvement operations change it: tets that can be removed and
 // added, each vertex's tets, the faces and edges no operation may remove, and how far each
 // vertex may move. It works on a copy of the tets and in place on the points of a linear
-// TetMesh; writeBack puts the surviving and new tets back in a deterministic order.
+// TetMesh; writeBack puts the surviving and new tets back in a deterministic order, and drops
+// the vertices edge collapses removed.
 #include <array>
 #include <cstdint>
 #include <map>
@@ -80,8 +81,22 @@ class ImprovementMesh {
   // Removes `old` and adds `made` (all of `material`); returns the new tets' indices.
   std::vector<int64_t> replace(const std::vector<int64_t>& old, const std::vector<TetCorners>& made, int material);
 
-  // The alive tets in index order (originals first, then the ones the operations made).
-  void writeBack(TetMesh& mesh) const;
+  // Edge collapse (EdgeCollapse.h, which decides whether it is allowed): v goes onto u. Each
+  // tet of v without u becomes `made` (v renamed u, same material); the tets having both go.
+  // Protected faces and edges at v are renamed and those having both go; v is left with no tet.
+  void collapse(int64_t v, int64_t u);
+  bool removed(int64_t v) const { return collapsed_into_[v] >= 0; }
+  int64_t removedVertexCount() const { return removed_vertices_; }
+  // The faces (sorted corners) of the alive tets at v that have v; those of them no other
+  // alive tet has (on the outer boundary).
+  std::vector<std::array<int64_t, 3>> facesAt(int64_t v) const;
+  std::vector<std::array<int64_t, 3>> outerFacesAt(int64_t v) const;
+
+  // The alive tets in index order (originals first, then the ones the operations made). When
+  // vertices were removed, the mesh's points and per-vertex data are renumbered without them,
+  // its feature edges renamed and its boundary extracted again; the result gives each written
+  // vertex's index before (empty: none removed, numbering unchanged).
+  std::vector<int64_t> writeBack(TetMesh& mesh) const;
 
  private:
   struct KeyHash {
@@ -106,6 +121,8 @@ class ImprovementMesh {
   std::map<int, double> volume_moved_;
   std::vector<int64_t> changed_at_;
   int64_t clock_ = 0;
+  std::vector<int64_t> collapsed_into_;  // per vertex: the vertex it went onto, -1 kept
+  int64_t removed_vertices_ = 0;
 };
 
 }  // namespace oraclemesh

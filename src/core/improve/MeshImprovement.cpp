@@ -111,9 +111,29 @@ class Driver {
           ++stats_.flips23;
           done = true;
         }
+      if (!done && options_.edge_collapse) done = collapseShortestEdge(c);
       changes += done;
     }
     return changes;
+  }
+
+  // The tet's edges shortest first, each end onto the other: a short edge is what makes a
+  // sliver that no flip removes when its ends cannot move apart.
+  bool collapseShortestEdge(const TetCorners& c) {
+    const auto& p = mesh_.points();
+    int edges[6] = {0, 1, 2, 3, 4, 5};
+    std::stable_sort(edges, edges + 6, [&](int x, int y) {
+      return distance(p[c[kEdgeCorners[x][0]]], p[c[kEdgeCorners[x][1]]]) <
+             distance(p[c[kEdgeCorners[y][0]]], p[c[kEdgeCorners[y][1]]]);
+    });
+    for (int e : edges) {
+      const int64_t a = c[kEdgeCorners[e][0]], b = c[kEdgeCorners[e][1]];
+      if (collapseEdge(mesh_, a, b, options_.collapse_sizes) || collapseEdge(mesh_, b, a, options_.collapse_sizes)) {
+        ++stats_.edge_collapses;
+        return true;
+      }
+    }
+    return false;
   }
 
   // Each vertex of a tet under the goal, once per pass, worst tet first.
@@ -155,7 +175,8 @@ class Driver {
 
 }  // namespace
 
-ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control) {
+ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control,
+                             std::vector<int64_t>* previousIndex) {
   ImprovementStats stats;
   stats.min_dihedral_before = meshMinDihedral(mesh);
   stats.before = countPoorTets(mesh);
@@ -172,7 +193,8 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
     const int64_t changes = driver.topologicalSweep() + driver.smoothingSweep();
     if (changes == 0) break;
   }
-  work.writeBack(mesh);
+  std::vector<int64_t> renumbered = work.writeBack(mesh);
+  if (previousIndex) *previousIndex = std::move(renumbered);
   stats.curved_volume_share = work.largestVolumeShareMoved();
   stats.min_dihedral_after = meshMinDihedral(mesh);
   stats.after = countPoorTets(mesh);

@@ -1,6 +1,6 @@
 #pragma once
-// The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, 2-3 flips)
-// and vertex smoothing, worst tet first, repeated in passes. Every operation raises the
+// The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, 2-3 flips,
+// edge collapse) and vertex smoothing, worst tet first, repeated in passes. Every operation raises the
 // smallest dihedral angle of the tets it replaces or moves, so the mesh is the best so far
 // after each one and can be stopped anywhere. It runs on the final linear mesh of either
 // engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
@@ -9,9 +9,11 @@
 // `curved_volume_bound` where they move on curved faces and curves), and the size criteria (no
 // new tet bigger in circumradius or radius-edge ratio than the worst it replaces).
 #include <cstdint>
+#include <vector>
 
 #include "RunControl.h"
 #include "improve/BoundaryPlacement.h"
+#include "improve/EdgeCollapse.h"
 #include "improve/FlatCaps.h"
 #include "mesh/TetMesh.h"
 
@@ -34,6 +36,11 @@ struct ImprovementOptions {
   double curved_volume_bound = 1e-5;
   // A cap on a curved piece: its corners within this share of its longest edge of one plane.
   double curved_cap_flatness = 0.05;
+  // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet, within the
+  // job's edge and facet sizes (CollapseSizes; without them, curve vertices stay and boundary
+  // triangles grow no larger than the largest at the vertex removed).
+  bool edge_collapse = true;
+  CollapseSizes collapse_sizes;
 };
 
 struct PoorTetCounts {
@@ -48,6 +55,7 @@ struct ImprovementStats {
   int64_t flips32 = 0;           // edge removal with a ring of 3
   int64_t flips44 = 0;           // ring of 4
   int64_t edge_removals = 0;     // rings of 5 to 7
+  int64_t edge_collapses = 0;    // vertices removed
   int64_t smoothed_interior = 0;
   int64_t smoothed_surface = 0;  // in a planar patch
   int64_t smoothed_feature = 0;  // along a straight curve
@@ -61,7 +69,11 @@ struct ImprovementStats {
 };
 
 // Rejects second-order meshes (mid nodes would be stale). Checks `control` for cancellation.
-// Rebuilds mesh.boundary when flat caps change it.
-ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control);
+// Rebuilds mesh.boundary when flat caps or collapses change it. Edge collapses remove vertices:
+// the mesh is renumbered without them, and `previousIndex` (when given) gets each vertex's
+// index before the stage, so that per-vertex data kept elsewhere can follow (left empty when
+// the numbering did not change).
+ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control,
+                             std::vector<int64_t>* previousIndex = nullptr);
 
 }  // namespace oraclemesh

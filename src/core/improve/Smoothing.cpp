@@ -68,12 +68,6 @@ struct Star {
   }
 };
 
-double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c) {
-  const double area2 = norm(cross(b - a, c - a));
-  return area2 > 0 ? distance(a, b) * distance(b, c) * distance(c, a) / (2 * area2)
-                   : std::numeric_limits<double>::infinity();
-}
-
 // The largest boundary triangle circumradius or feature edge length at v with v at q: a move
 // may not make it larger than it was (the facet and edge sizes still hold).
 double boundarySizeAt(const ImprovementMesh& mesh, int64_t v, const Point3& q) {

@@ -60,6 +60,12 @@ TetSize tetSize(const Point3& a, const Point3& b, const Point3& c, const Point3&
   return {ratio * shortest, ratio};
 }
 
+double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c) {
+  const double area2 = norm(cross(b - a, c - a));
+  return area2 > 0 ? distance(a, b) * distance(b, c) * distance(c, a) / (2 * area2)
+                   : std::numeric_limits<double>::infinity();
+}
+
 void SizeBound::include(const TetSize& s) {
   circumradius = std::max(circumradius, s.circumradius);
   radius_edge_ratio = std::max(radius_edge_ratio, s.radius_edge_ratio);

@@ -20,6 +20,9 @@ int exactOrientation(const Point3& a, const Point3& b, const Point3& c, const Po
 double smallestDihedral(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 double smallestDihedral(const std::vector<Point3>& points, const TetCorners& t);
 
+// Circumradius of a boundary triangle (what the facet size bounds); infinite when it is flat.
+double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c);
+
 struct TetSize {
   double circumradius = 0;
   double radius_edge_ratio = 0;

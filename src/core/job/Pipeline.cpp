@@ -90,7 +90,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   mesh.boundary = extractBoundary(mesh);
   // What the snap costs in quality (each engine leaves some boundary vertices off the faces).
   report.boundary_snap.min_dihedral_before_deg = measureQuality(mesh).min_dihedral;
-  const BoundarySnapResult snap = snapBoundaryVertices(mesh, oracle, features.curves, control);
+  BoundarySnapResult snap = snapBoundaryVertices(mesh, oracle, features.curves, control);
   report.boundary_snap.statistics = snap.statistics;
   clock.finish("snap");
 
@@ -100,9 +100,18 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   ImprovementOptions improvement;
   improvement.time_limit = job.optimize_time_limit;
   improvement.placement = &placement;
+  improvement.collapse_sizes.edge = [&criteria](const Point3& p) { return criteria.edgeSizeAt(p); };
+  improvement.collapse_sizes.facet = [&criteria](int material, const Point3& p) {
+    return criteria.facetSizeAt(material, p);
+  };
   report.improve.enabled = job.improve;
-  if (job.improve) report.improve.stats = improveMesh(mesh, improvement, control);
-  report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle);
+  if (job.improve) {
+    std::vector<int64_t> previousIndex;
+    report.improve.stats = improveMesh(mesh, improvement, control, &previousIndex);
+    snap.renumber(previousIndex);
+  }
+  report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle,
+                                         [&criteria](const Point3& p) { return criteria.edgeSizeAt(p); });
   clock.finish("improve");
 
   if (job.element_order == 2) {

@@ -56,7 +56,8 @@ struct AngleSite {
 }  // namespace
 
 PoorElements findPoorElements(const TetMesh& mesh, const std::vector<SmallInputAngle>& angles,
-                              const FeatureGraph& features, const HierarchicalOracle& oracle) {
+                              const FeatureGraph& features, const HierarchicalOracle& oracle,
+                              const std::function<double(const Point3&)>& localEdgeSize) {
   std::vector<AngleSite> sites(angles.size());
   for (size_t i = 0; i < angles.size(); ++i) {
     const std::vector<int> curves = curvesOfSmallAngle(angles[i], features, oracle);
@@ -92,12 +93,13 @@ PoorElements findPoorElements(const TetMesh& mesh, const std::vector<SmallInputA
       for (int j = i + 1; j < 4; ++j) longest = std::max(longest, distance(mesh.points[c[i]], mesh.points[c[j]]));
     }
     e.location = 0.25 * sum;
+    const double reach = localEdgeSize ? std::max(longest, localEdgeSize(e.location)) : longest;
     double nearest = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < sites.size(); ++i) {
       double d = std::numeric_limits<double>::infinity();
       for (int64_t v : c)
-        if (sites[i].boxDistance(mesh.points[v]) <= std::min(longest, d)) d = std::min(d, sites[i].distanceTo(mesh.points[v]));
-      if (d <= longest && d < nearest) {
+        if (sites[i].boxDistance(mesh.points[v]) <= std::min(reach, d)) d = std::min(d, sites[i].distanceTo(mesh.points[v]));
+      if (d <= reach && d < nearest) {
         nearest = d;
         e.small_angle = static_cast<int>(i);
         e.small_angle_distance = d;

@@ -3,6 +3,7 @@
 // (which no mesh of the model can resolve better than the angle allows) or not improved within
 // the stage's work bound.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,9 +37,12 @@ struct PoorElements {
 std::vector<int> curvesOfSmallAngle(const SmallInputAngle& angle, const FeatureGraph& features,
                                     const HierarchicalOracle& oracle);
 
-// A tet is near a small input angle when the angle's point or curve is within its longest edge
-// of one of its corners (the nearest such angle is named).
+// A tet is near a small input angle when the angle's point or curve is within one local edge
+// size of one of its corners: the job's edge size at the tet (`localEdgeSize`; refinement next
+// to a small angle makes tets much smaller than that) or the tet's longest edge, whichever is
+// larger. The nearest such angle is named.
 PoorElements findPoorElements(const TetMesh& mesh, const std::vector<SmallInputAngle>& angles,
-                              const FeatureGraph& features, const HierarchicalOracle& oracle);
+                              const FeatureGraph& features, const HierarchicalOracle& oracle,
+                              const std::function<double(const Point3&)>& localEdgeSize = {});
 
 }  // namespace oraclemesh

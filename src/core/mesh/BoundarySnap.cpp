@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 #include <unordered_map>
+#include <utility>
 
 #include "mesh/Quality.h"
 #include "mesh/Topology.h"
@@ -174,6 +175,18 @@ BoundarySnapResult snapBoundaryVertices(TetMesh& mesh, const HierarchicalOracle&
     }
   }
   return result;
+}
+
+void BoundarySnapResult::renumber(const std::vector<int64_t>& previousIndex) {
+  if (previousIndex.empty()) return;
+  std::vector<int> entries;
+  std::vector<double> kept;
+  for (int64_t v : previousIndex) {
+    if (static_cast<size_t>(v) < vertex_entry.size()) entries.push_back(vertex_entry[v]);
+    if (static_cast<size_t>(v) < distance_kept.size()) kept.push_back(distance_kept[v]);
+  }
+  vertex_entry = std::move(entries);
+  distance_kept = std::move(kept);
 }
 
 }  // namespace oraclemesh

@@ -36,6 +36,10 @@ struct BoundarySnapResult {
   // found there), so later checks allow that much at that vertex only.
   std::vector<double> distance_kept;
   BoundarySnapStatistics statistics;
+
+  // The per-vertex data after vertices were removed (improveMesh's previousIndex: each vertex's
+  // index before); an empty list changes nothing.
+  void renumber(const std::vector<int64_t>& previousIndex);
 };
 
 // Mesh_3 leaves slivers lying on the outer surface (four corners on one face, or across a
