@@ -308,14 +308,20 @@ TEST(ImproveSmoothing, SurfaceVertexOfTwoInterfacesStays) {
   EXPECT_FALSE(smoothVertex(work, 0));
 }
 
-// The same pyramid with a straight feature curve across its base through v, from (-1, 0, 0)
-// to (1, 0, 0), v at (0.7, 0, 0): v may move along the x axis only.
-TEST(ImproveSmoothing, FeatureVertexStaysOnItsLine) {
-  TetMesh m = pyramidFannedFrom({0.7, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
+// The same pyramid over the square with corners (+-1, 0, 0), (0, +-1, 0), with a straight
+// feature curve (curve 7) across its base from (-1, 0, 0) through v at (x, 0, 0) to (1, 0, 0).
+TetMesh pyramidWithLineThrough(double x) {
+  TetMesh m = pyramidFannedFrom({x, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
   m.feature_edges = {{1, 0}, {0, 3}};
   m.feature_edge_curves = {7, 7};
   m.vertex_dimension[0] = 1;
   m.vertex_curve[0] = 7;
+  return m;
+}
+
+// v at (0.7, 0, 0) may move along the x axis only.
+TEST(ImproveSmoothing, FeatureVertexStaysOnItsLine) {
+  TetMesh m = pyramidWithLineThrough(0.7);
   const TetMesh before = m;
   ImprovementMesh work(m);
   ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
@@ -484,19 +490,14 @@ TEST(ImproveCollapse, VertexOfTwoInterfacesStays) {
   for (int64_t u = 1; u < 6; ++u) EXPECT_FALSE(collapseEdge(work, 0, u));
 }
 
-// A straight feature curve across the base from (-1, 0, 0) through v at (0.9, 0, 0) to
-// (1, 0, 0): v goes onto its curve neighbour (1, 0, 0) only when the curve segment that makes,
-// 2 long, is within the edge size; the curve is then one feature edge of the mesh.
+// v at (0.9, 0, 0) goes onto its curve neighbour (1, 0, 0) only when the curve segment that
+// makes, 2 long, is within the edge size; the curve is then one feature edge of the mesh.
 TEST(ImproveCollapse, FeatureVertexGoesAlongItsLineWithinTheEdgeSize) {
-  TetMesh m = pyramidFannedFrom({0.9, 0, 0}, {{{-1, 0, 0}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}}});
-  m.feature_edges = {{1, 0}, {0, 3}};
-  m.feature_edge_curves = {7, 7};
-  m.vertex_dimension[0] = 1;
-  m.vertex_curve[0] = 7;
+  TetMesh m = pyramidWithLineThrough(0.9);
   const TetMesh before = m;
   ImprovementMesh work(m);
   ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
-  // The base triangles grow from circumradius 0.95 to 1 (v and corner 1 are on their circles).
+  // The base triangles at v have circumradii up to 0.95; the two that replace them have 1.
   auto sizes = [](double edge, double facet) {
     return CollapseSizes{[edge](const Point3&) { return edge; }, [facet](int, const Point3&) { return facet; }};
   };
