@@ -73,6 +73,37 @@ TEST(TriangleSurfaceEdges, AnStlBoxAtTheDefaultsIsTheBox) {
 // there are no edges of the composite boundary: they are clipped, as B-rep edges are. (The
 // crease where the cover's face crosses the box's faces is no feature: junction curves are
 // sections of two B-rep inputs only, so the mesh cuts that crease, 0.05 % of each volume.)
+// A wedge as triangles: the triangle (0, 0), (L, 0), L (cos 20, sin 20) degrees extruded along
+// z. Along its sharp edge at the origin the two side faces meet at 20 degrees: a small input
+// angle of kind "dihedral" (before, only the B-rep faces' were measured, and the poor tets at
+// such an edge were "not improved in the budget").
+TEST(TriangleSurfaceEdges, ASmallDihedralAngleIsReported) {
+  const double L = 30, H = 10, angle = 20 * M_PI / 180;
+  test::Triangles wedge;
+  const Point3 corners[3] = {{0, 0, 0}, {L, 0, 0}, {L * std::cos(angle), L * std::sin(angle), 0}};
+  for (const Point3& c : corners) wedge.points.push_back(c);
+  for (const Point3& c : corners) wedge.points.push_back({c[0], c[1], H});
+  wedge.triangles = {{0, 2, 1}, {3, 4, 5}};  // bottom (normal -z), top
+  for (int64_t i = 0; i < 3; ++i) {  // the sides, counter-clockwise seen from +z
+    const int64_t j = (i + 1) % 3;
+    wedge.triangles.push_back({i, j, j + 3});
+    wedge.triangles.push_back({i, j + 3, i + 3});
+  }
+  json job = {{"inputs", {test::surfaceInput("wedge", wedge, 1)}}, {"element_order", 1}, {"checks", "warn"},
+              {"seed", 0}, {"limits", {{"time_limit", 60}}}};
+  const JobResult r = runJob(JobSpec::fromJson(job, ""), RunControl({}, 60));
+  int dihedrals = 0;
+  for (const json& a : r.report.at("small_input_angles")) {
+    if (a.at("kind") != "dihedral") continue;
+    ++dihedrals;
+    EXPECT_EQ(a.at("input"), "wedge");
+    EXPECT_NEAR(a.at("angle_deg").get<double>(), 20, 1e-9);
+    const Point3 at = a.at("location").get<Point3>();
+    EXPECT_NEAR(std::hypot(at[0], at[1]), 0, 1e-9);  // on the edge at the origin
+  }
+  EXPECT_EQ(dihedrals, 1);  // the 80 and 90 degree edges are not small
+}
+
 TEST(TriangleSurfaceEdges, EdgesInsideAHigherInputAreClipped) {
   const TopoDS_Shape cover = BRepPrimAPI_MakeBox(gp_Pnt(30, -5, -5), gp_Pnt(50, 25, 15)).Shape();
   const json job = {{"inputs",

@@ -20,6 +20,7 @@
 
 #include "Error.h"
 #include "domain/BrepTopology.h"
+#include "domain/TriangleSurface.h"
 #include "domain/brep/OcctConversions.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CurveSampling.h"
@@ -139,6 +140,73 @@ void dihedralAngles(const HierarchicalOracle& oracle, const FeatureGraph& featur
     }
     return smallest;
   });
+}
+
+// Dihedral angles along a triangle surface's sharp edges (its polylines in `features`): for
+// each polyline the smallest interior angle between the two triangles at any surface edge it
+// runs along, on the composite boundary. A polyline's points are surface vertices and, between
+// them, split points (TriangleSurfaceSharpEdges), so consecutive surface vertices on it are the
+// ends of one surface edge.
+void triangleSurfaceDihedrals(const HierarchicalOracle& oracle, const FeatureGraph& features, double limit,
+                              std::vector<SmallInputAngle>& out) {
+  for (size_t entry = 0; entry < oracle.entries().size(); ++entry) {
+    const auto* surface = dynamic_cast<const TriangleSurface*>(oracle.entries()[entry].source.get());
+    if (!surface) continue;
+    std::vector<const FeaturePolyline*> lines;
+    for (const FeaturePolyline& pl : features.polylines)
+      if (isTriangleSurfaceEdge(pl) && pl.source == static_cast<int>(entry)) lines.push_back(&pl);
+    if (lines.empty()) continue;
+    std::vector<Point3> points;
+    std::vector<std::array<int64_t, 3>> triangles;
+    surface->outwardTriangles(points, triangles);
+    std::map<Point3, int64_t> vertexAt;
+    for (size_t v = 0; v < points.size(); ++v) vertexAt.emplace(points[v], static_cast<int64_t>(v));
+    std::map<std::pair<int64_t, int64_t>, std::vector<size_t>> trianglesOfEdge;
+    for (size_t t = 0; t < triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        trianglesOfEdge[std::minmax(triangles[t][k], triangles[t][(k + 1) % 3])].push_back(t);
+    // Interior angle at edge ab between triangles s and t, from their outward normals: the
+    // edge is convex where t's third corner lies below s's plane.
+    auto interior = [&](int64_t a, int64_t b, size_t s, size_t t) {
+      auto normal = [&](size_t i) {
+        const auto& c = triangles[i];
+        return unit(cross(points[c[1]] - points[c[0]], points[c[2]] - points[c[0]]));
+      };
+      const Point3 ns = normal(s), nt = normal(t);
+      const double between = std::atan2(norm(cross(ns, nt)), dot(ns, nt));
+      int64_t apex = -1;
+      for (int64_t x : triangles[t])
+        if (x != a && x != b) apex = x;
+      return dot(points[apex] - points[a], ns) <= 0 ? kPi - between : kPi + between;
+    };
+    for (const FeaturePolyline* pl : lines) {
+      SmallInputAngle smallest;
+      smallest.angle_deg = 360;
+      int64_t previous = -1;
+      for (const Point3& p : pl->points) {
+        const auto found = vertexAt.find(p);
+        if (found == vertexAt.end()) continue;  // a split point
+        const int64_t v = found->second;
+        if (previous >= 0) {
+          const auto at = trianglesOfEdge.find(std::minmax(previous, v));
+          if (at != trianglesOfEdge.end() && at->second.size() == 2) {
+            const double angle = degrees(interior(previous, v, at->second[0], at->second[1]));
+            const Point3 middle = 0.5 * (points[previous] + points[v]);
+            if (angle < smallest.angle_deg && onCompositeBoundary(oracle, middle, static_cast<int>(entry))) {
+              smallest.angle_deg = angle;
+              smallest.location = middle;
+            }
+          }
+        }
+        previous = v;
+      }
+      if (smallest.angle_deg >= limit) continue;
+      smallest.kind = "dihedral";
+      smallest.input = surface->name();
+      smallest.curve = pl->curve;
+      out.push_back(smallest);
+    }
+  }
 }
 
 // Unit direction in which polyline `pl` leaves its end point (front, or back when `atBack`):
@@ -404,6 +472,7 @@ std::vector<SmallInputAngle> findSmallInputAngles(const HierarchicalOracle& orac
   std::vector<SmallInputAngle> result;
   try {
     dihedralAngles(oracle, features, limitDeg, result);
+    triangleSurfaceDihedrals(oracle, features, limitDeg, result);
     curveAngles(oracle, features, junctions, limitDeg, result);
     coneApexes(oracle, limitDeg, result);
     if (junctions) junctionAngles(oracle, features, *junctions, limitDeg, result);

@@ -13,7 +13,8 @@
 namespace oraclemesh {
 
 struct SmallInputAngle {
-  // "dihedral": two faces of one input meet along a feature edge at this interior angle;
+  // "dihedral": two faces of one input meet along a feature edge at this interior angle (for a
+  // triangle surface, its two triangles along a sharp edge; `edge` is then -1);
   // "curves": two feature curves leave a common vertex at this angle;
   // "cone_apex": the full opening angle of a conical face ending in a point;
   // "junction": a material wedge where the boundaries of two inputs cross (the plate's wedge
@@ -26,10 +27,12 @@ struct SmallInputAngle {
   Point3 location{};  // where the angle is smallest
   std::string input;  // the input(s) the angle belongs to ("a / b" for curves of two inputs)
   int edge = -1;      // 0-based B-rep edge index for "dihedral" and "contact", -1 otherwise
+  int curve = -1;     // the feature curve of a triangle surface's "dihedral", -1 otherwise
 };
 
 // The input angles under `limitDeg` on the composite boundary: dihedral angles along the B-rep
-// edges that are in `features` (so buried edges do not count), angles between feature curves
+// edges and triangle-surface sharp edges that are in `features` (so buried edges do not
+// count), angles between feature curves
 // at their shared end points, and cone apexes not buried inside a higher-priority input.
 // With `junctions` (the curves the junction polylines of `features` run along), also the
 // composite material wedges along those polylines: at each inner polyline point the two

@@ -13,6 +13,8 @@ std::vector<int> curvesOfSmallAngle(const SmallInputAngle& angle, const FeatureG
                                     const HierarchicalOracle& oracle) {
   std::vector<int> curves;
   if (angle.kind != "dihedral" && angle.kind != "contact") return curves;
+  if (angle.curve >= 0) return {angle.curve};  // a triangle surface's sharp edge
+  if (angle.edge < 0) return curves;
   for (const FeaturePolyline& pl : features.polylines)
     if (pl.edge == angle.edge && pl.source >= 0 && oracle.entries()[pl.source].source->name() == angle.input)
       curves.push_back(pl.curve);

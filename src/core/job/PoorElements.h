@@ -33,7 +33,8 @@ struct PoorElements {
 };
 
 // Curves of the feature graph along which a "dihedral" or "contact" angle lies (the B-rep edge
-// of the input it names); empty for the other kinds, which have a point.
+// of the input it names, or the triangle surface's polyline); empty for the other kinds, which
+// have a point.
 std::vector<int> curvesOfSmallAngle(const SmallInputAngle& angle, const FeatureGraph& features,
                                     const HierarchicalOracle& oracle);
 
