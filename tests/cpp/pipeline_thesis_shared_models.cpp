@@ -242,13 +242,13 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   EXPECT_GE(improve.at("operations").at("edge_collapses").get<int>(), 10);
   EXPECT_GT(improve.at("min_dihedral_after_deg").get<double>(), 0.5);
   EXPECT_LE(improve.at("tets_under_5_deg").get<int>(), 6);
-  // The stage moves the volume by at most its curved-move bound (tet4 chords are 0.7 % short of
-  // the part with or without it).
+  // The stage moves the volume by at most its two curved bounds, for moves and collapses and for
+  // curved caps (tet4 chords are 0.7 % short of the part with or without it).
   EXPECT_LE(improve.at("curved_moves_largest_volume_share").get<double>(), 1e-5 * (1 + 1e-9));
   const SharedModelRun unimproved = meshSharedModel(
       "Kurbelwelle.stp", "Kurbelwelle", {{"criteria", {{"fineness", "moderate"}}}, {"optimize", {{"improve", false}}}});
   const double before = test::volumePerMaterial(unimproved.result.mesh).at(1);
-  EXPECT_NEAR(test::volumePerMaterial(m).at(1), before, 1e-5 * before);
+  EXPECT_NEAR(test::volumePerMaterial(m).at(1), before, 2 * 1e-5 * before);
   EXPECT_NEAR(before, run.brep_volume, 0.01 * run.brep_volume);
   // No vertex left without a tet after the renumbering, and every boundary node on the part.
   std::vector<char> used(m.points.size(), 0);
@@ -256,6 +256,24 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
     for (int64_t v : t) used[v] = 1;
   EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
   expectBoundaryNodesOnTheCad(run, "Kurbelwelle.stp");
+}
+
+// part.step at the default fineness: a line tangent to an arc at six corners (0 - 0.15 degree
+// curve angles) leaves the first vertices of the two curves a hundredth of a millimetre apart;
+// no operation may join them (each is on its own curve), so the tets there stay poor. The
+// stage takes out the rest: every tet under 15 degrees is within an edge size of such an
+// angle, and there are fewer than 70 under 10 (91 with collapses only along the tet's own
+// edges and the largest sizes there were; 136 without collapses).
+TEST(ThesisSharedModels, PartStepPoorTetsAreAtItsSmallAnglesAtTheDefaultFineness) {
+  const SharedModelRun run = meshSharedModel("part.step", "part", {{"criteria", {{"fineness", "moderate"}}}});
+  const json& improve = run.result.report.at("improve");
+  expectConforming(run.result.mesh);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(run.result.mesh), 0);
+  EXPECT_GT(improve.at("tets_under_15_deg").get<int>(), 0);
+  EXPECT_EQ(improve.at("tets_under_15_deg_near_small_input_angle"), improve.at("tets_under_15_deg"));
+  EXPECT_LT(improve.at("tets_under_10_deg").get<int>(), 70);
+  for (const json& a : run.result.report.at("small_input_angles")) EXPECT_LT(a.at("angle_deg").get<double>(), 0.2);
+  expectBoundaryNodesOnTheCad(run, "part.step");
 }
 
 // screw.step with engine cgal at the default size: four protected edges were edges of the

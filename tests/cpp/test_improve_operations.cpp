@@ -499,7 +499,7 @@ TEST(ImproveCollapse, FeatureVertexGoesAlongItsLineWithinTheEdgeSize) {
   ASSERT_EQ(work.mobility(0).freedom, VertexFreedom::Linear);
   // The base triangles at v have circumradii up to 0.95; the two that replace them have 1.
   auto sizes = [](double edge, double facet) {
-    return CollapseSizes{[edge](const Point3&) { return edge; }, [facet](int, const Point3&) { return facet; }};
+    return SizeCriteria{[edge](const Point3&) { return edge; }, [facet](int, const Point3&) { return facet; }};
   };
   EXPECT_FALSE(collapseEdge(work, 0, 3));  // no sizes: curve vertices stay
   EXPECT_FALSE(collapseEdge(work, 0, 3, sizes(1.9, 1.001)));

@@ -122,7 +122,7 @@ bool linkConditionHolds(const ImprovementMesh& mesh, int64_t v, int64_t u) {
 }
 
 // Whether v may go onto u without leaving its place in the model (EdgeCollapse.h).
-bool staysInPlace(const ImprovementMesh& mesh, int64_t v, int64_t u, const CollapseSizes& sizes) {
+bool staysInPlace(const ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteria& sizes) {
   const VertexMobility& m = mesh.mobility(v);
   switch (m.freedom) {
     case VertexFreedom::Free: return true;
@@ -144,7 +144,7 @@ bool staysInPlace(const ImprovementMesh& mesh, int64_t v, int64_t u, const Colla
 
 }  // namespace
 
-bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const CollapseSizes& sizes) {
+bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteria& sizes) {
   if (v == u || mesh.removed(v) || mesh.removed(u) || !mesh.hasEdge(v, u)) return false;
   if (!staysInPlace(mesh, v, u, sizes)) return false;
   const auto& p = mesh.points();
@@ -172,7 +172,11 @@ bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const CollapseSiz
       if (x == v) x = u;
     volumeChange[mesh.material(t)] += tetVolume(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
     if (exactOrientation(p[c[0]], p[c[1]], p[c[2]], p[c[3]]) <= 0) return false;
-    if (!bound.admits(tetSize(p[c[0]], p[c[1]], p[c[2]], p[c[3]]))) return false;
+    // Within the worst tet at v, or a circumradius within the job's cell size.
+    const TetSize size = tetSize(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
+    const double cellSize = sizes.cell ? sizes.cell(mesh.material(t), 0.25 * (p[c[0]] + p[c[1]] + p[c[2]] + p[c[3]])) : 0;
+    if (size.radius_edge_ratio > bound.radius_edge_ratio || size.circumradius > std::max(bound.circumradius, cellSize))
+      return false;
     after = std::min(after, smallestDihedral(p, c));
     if (!(after > before)) return false;
   }
@@ -188,14 +192,8 @@ bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const CollapseSiz
   for (const Pair& e : surface.edges) largest = std::max(largest, triangleCircumradius(p[v], p[e[0]], p[e[1]]));
   for (const Pair& e : surface.edges) {
     if (e[0] == u || e[1] == u) continue;
-    double facetBound = largest;
-    if (sizes.facet && !curved) {
-      const Point3 centre = (1.0 / 3) * (p[u] + p[e[0]] + p[e[1]]);
-      double strictest = std::numeric_limits<double>::infinity();
-      for (int material : materials) strictest = std::min(strictest, sizes.facet(material, centre));
-      facetBound = std::max(facetBound, strictest);
-    }
-    if (triangleCircumradius(p[u], p[e[0]], p[e[1]]) > facetBound) return false;
+    const double facetSize = curved ? 0 : sizes.strictestFacetSize(materials, (1.0 / 3) * (p[u] + p[e[0]] + p[e[1]]));
+    if (triangleCircumradius(p[u], p[e[0]], p[e[1]]) > std::max(largest, facetSize)) return false;
   }
   if (curved && !mesh.volumeFits(volumeChange)) return false;
   if (!linkConditionHolds(mesh, v, u)) return false;

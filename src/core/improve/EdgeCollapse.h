@@ -13,27 +13,18 @@
 //     left of the stage's curved-move bound (ImprovementMesh::volumeFits).
 // Fixed vertices (corners, vertices of several interfaces) stay.
 #include <cstdint>
-#include <functional>
 
 #include "improve/ImprovementMesh.h"
+#include "improve/SizeCriteria.h"
 
 namespace oraclemesh {
 
-// The size criteria a collapse must keep (null: no collapse that needs them).
-struct CollapseSizes {
-  // Feature edge length bound at a point: a curve vertex collapses only with it.
-  std::function<double(const Point3&)> edge;
-  // Facet size (a bound of the circumradius) of a material at a point: a boundary or interface
-  // triangle of a planar patch or straight curve may grow up to it. Without it, and on curved
-  // pieces (whose chords also have a facet distance to keep), up to the largest at v.
-  std::function<double(int, const Point3&)> facet;
-};
-
 // Collapses v onto u when it is allowed (above), the result is a mesh (the link condition of
 // the tets closed by a vertex at infinity, of the boundary and interface triangles, and of the
-// feature edges), every changed tet is positive (exact predicate) and within the size of the
-// worst tet at v, every renamed boundary triangle within the facet size, and the smallest
+// feature edges), every changed tet is positive (exact predicate), within the radius-edge ratio
+// of the worst tet at v and within the circumradius of the largest or the job's cell size,
+// every renamed boundary triangle within the facet size (SizeCriteria), and the smallest
 // dihedral angle of the changed tets is above that of v's tets before.
-bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const CollapseSizes& sizes = {});
+bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteria& sizes = {});
 
 }  // namespace oraclemesh

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "improve/EdgeCollapse.h"
 #include "improve/EdgeRemoval.h"
 #include "improve/FaceRemoval.h"
 #include "improve/ImprovementMesh.h"
@@ -128,10 +129,23 @@ class Driver {
     });
     for (int e : edges) {
       const int64_t a = c[kEdgeCorners[e][0]], b = c[kEdgeCorners[e][1]];
-      if (collapseEdge(mesh_, a, b, options_.collapse_sizes) || collapseEdge(mesh_, b, a, options_.collapse_sizes)) {
+      if (collapseEdge(mesh_, a, b, options_.sizes) || collapseEdge(mesh_, b, a, options_.sizes)) {
         ++stats_.edge_collapses;
         return true;
       }
+    }
+    // A curve vertex of the tet onto a curve neighbour that is not: the short edge between the
+    // first vertices of two curves leaving a corner at a small angle joins two curves, which no
+    // collapse may merge, but one of those vertices can go farther out along its own curve,
+    // where the curves are farther apart.
+    for (int64_t v : c) {
+      const VertexMobility& m = mesh_.mobility(v);
+      if (m.freedom != VertexFreedom::Linear && m.freedom != VertexFreedom::OnCurve) continue;
+      for (int64_t u : m.feature_neighbours)
+        if (u >= 0 && std::find(c.begin(), c.end(), u) == c.end() && collapseEdge(mesh_, v, u, options_.sizes)) {
+          ++stats_.edge_collapses;
+          return true;
+        }
     }
     return false;
   }
@@ -148,7 +162,7 @@ class Driver {
         if (vertex_tried_[v] >= mesh_.changedAt(v)) continue;  // nothing near it changed since
         vertex_tried_[v] = mesh_.now();
         if (outOfTime()) return changes;
-        if (!smoothVertex(mesh_, v)) continue;
+        if (!smoothVertex(mesh_, v, options_.sizes)) continue;
         ++changes;
         switch (mesh_.mobility(v).freedom) {
           case VertexFreedom::Free: ++stats_.smoothed_interior; break;

@@ -13,8 +13,8 @@
 
 #include "RunControl.h"
 #include "improve/BoundaryPlacement.h"
-#include "improve/EdgeCollapse.h"
 #include "improve/FlatCaps.h"
+#include "improve/SizeCriteria.h"
 #include "mesh/TetMesh.h"
 
 namespace oraclemesh {
@@ -36,11 +36,11 @@ struct ImprovementOptions {
   double curved_volume_bound = 1e-5;
   // A cap on a curved piece: its corners within this share of its longest edge of one plane.
   double curved_cap_flatness = 0.05;
-  // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet, within the
-  // job's edge and facet sizes (CollapseSizes; without them, curve vertices stay and boundary
-  // triangles grow no larger than the largest at the vertex removed).
+  // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet.
   bool edge_collapse = true;
-  CollapseSizes collapse_sizes;
+  // The job's edge, facet and cell sizes, which collapses and moves keep where they lengthen a
+  // feature edge or enlarge a boundary triangle or a tet (SizeCriteria.h).
+  SizeCriteria sizes;
 };
 
 struct PoorTetCounts {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "mesh/Quality.h"
@@ -68,8 +69,7 @@ struct Star {
   }
 };
 
-// The largest boundary triangle circumradius or feature edge length at v with v at q: a move
-// may not make it larger than it was (the facet and edge sizes still hold).
+// The largest boundary triangle circumradius or feature edge length at v with v at q.
 double boundarySizeAt(const ImprovementMesh& mesh, int64_t v, const Point3& q) {
   const VertexMobility& m = mesh.mobility(v);
   const auto& p = mesh.points();
@@ -79,6 +79,30 @@ double boundarySizeAt(const ImprovementMesh& mesh, int64_t v, const Point3& q) {
   for (int64_t w : m.feature_neighbours)
     if (w >= 0) size = std::max(size, distance(q, p[w]));
   return size;
+}
+
+// Whether v at q keeps the facet and edge sizes: every boundary triangle and feature edge at v
+// no larger than `largest` (boundarySizeAt where v was), or a feature edge within the job's edge
+// size and a triangle of a planar patch within its facet size (SizeCriteria). Without those a
+// vertex next to a corner could not move away from it along its curve (part.step: the first
+// vertices of a line and an arc tangent at a corner, both 0.62 mm out, 0.006 mm apart).
+bool boundarySizesHold(const ImprovementMesh& mesh, int64_t v, const Point3& q, double largest,
+                       const SizeCriteria& sizes, const std::set<int>& materials) {
+  const VertexMobility& m = mesh.mobility(v);
+  const auto& p = mesh.points();
+  auto at = [&](int64_t w) -> const Point3& { return w == v ? q : p[w]; };
+  for (int64_t w : m.feature_neighbours) {
+    if (w < 0) continue;
+    const double length = distance(q, p[w]);
+    if (length > largest && !(sizes.edge && length <= sizes.edge(0.5 * (q + p[w])))) return false;
+  }
+  for (const auto& t : m.boundary_triangles) {
+    const double radius = triangleCircumradius(at(t[0]), at(t[1]), at(t[2]));
+    if (radius <= largest) continue;
+    if (m.freedom != VertexFreedom::Planar) return false;
+    if (!(radius <= sizes.strictestFacetSize(materials, (1.0 / 3) * (at(t[0]) + at(t[1]) + at(t[2]))))) return false;
+  }
+  return true;
 }
 
 // The unit normal of the boundary triangles at v with v at q (area-weighted, turned to `axis`).
@@ -127,7 +151,7 @@ std::optional<Point3> placed(const ImprovementMesh& mesh, int64_t v, const Point
 
 }  // namespace
 
-bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
+bool smoothVertex(ImprovementMesh& mesh, int64_t v, const SizeCriteria& sizes) {
   const VertexMobility& mobility = mesh.mobility(v);
   if (mobility.freedom == VertexFreedom::Fixed) return false;
   Star star{mesh, v, mesh.tetsOf(v)};
@@ -143,6 +167,8 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
   }
   const Point3 start = p[v];
   const double boundarySize = boundarySizeAt(mesh, v, start);
+  std::set<int> materials;
+  for (int64_t t : star.tets) materials.insert(mesh.material(t));
   double current = star.worstAt(start, &bound);
   if (current < 0) return false;
   // A curved-surface or curve vertex moves only from its place on the model (the snap may
@@ -171,7 +197,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v) {
       const std::optional<Point3> q = placed(mesh, v, step);
       if (!q || distance(*q, step) > stepLength) continue;
       const double worst = star.worstAt(*q, &bound);
-      if (worst > current && boundarySizeAt(mesh, v, *q) <= boundarySize &&
+      if (worst > current && boundarySizesHold(mesh, v, *q, boundarySize, sizes, materials) &&
           (!curved || mesh.volumeFits(star.volumeChange(start, *q)))) {
         position = *q;
         current = worst;

@@ -11,13 +11,15 @@
 #include <cstdint>
 
 #include "improve/ImprovementMesh.h"
+#include "improve/SizeCriteria.h"
 
 namespace oraclemesh {
 
 // Moves vertex v when that strictly raises the smallest dihedral angle of its tets, keeps
 // every one of them positively oriented (exact predicate), none bigger than the worst of them
-// before, and no boundary triangle or feature edge at v bigger than the biggest before.
-// Returns whether it moved.
-bool smoothVertex(ImprovementMesh& mesh, int64_t v);
+// before, and no boundary triangle or feature edge at v bigger than the biggest before unless
+// within `sizes` (a feature edge within the edge size, a planar patch's triangle within the
+// facet size). Returns whether it moved.
+bool smoothVertex(ImprovementMesh& mesh, int64_t v, const SizeCriteria& sizes = {});
 
 }  // namespace oraclemesh

@@ -100,10 +100,11 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   ImprovementOptions improvement;
   improvement.time_limit = job.optimize_time_limit;
   improvement.placement = &placement;
-  improvement.collapse_sizes.edge = [&criteria](const Point3& p) { return criteria.edgeSizeAt(p); };
-  improvement.collapse_sizes.facet = [&criteria](int material, const Point3& p) {
+  improvement.sizes.edge = [&criteria](const Point3& p) { return criteria.edgeSizeAt(p); };
+  improvement.sizes.facet = [&criteria](int material, const Point3& p) {
     return criteria.facetSizeAt(material, p);
   };
+  improvement.sizes.cell = [&criteria](int material, const Point3& p) { return criteria.cellSizeAt(material, p); };
   report.improve.enabled = job.improve;
   if (job.improve) {
     std::vector<int64_t> previousIndex;
