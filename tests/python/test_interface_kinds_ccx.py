@@ -194,4 +194,6 @@ def test_a_tie_beside_a_part_bonded_to_both_parts_solves(folder):
     _, separate = three_boxes_top_shift(os.path.join(folder, "three_separate"), "separate")
     print("top of C along x: tied %.6g, bonded %.6g, separate %.6g mm" % (tied, bonded, separate))
     assert tied == pytest.approx(bonded, rel=1e-3)
-    assert separate > 10 * bonded
+    # Hanging on one edge, C turns about it: a mechanism, whose solution ccx gives as a huge
+    # displacement of either sign (rounding decides).
+    assert abs(separate) > 10 * bonded
