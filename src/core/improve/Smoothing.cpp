@@ -83,9 +83,9 @@ double boundarySizeAt(const ImprovementMesh& mesh, int64_t v, const Point3& q) {
 
 // Whether v at q keeps the facet and edge sizes: every boundary triangle and feature edge at v
 // no larger than `largest` (boundarySizeAt where v was), or a feature edge within the job's edge
-// size and a triangle of a planar patch within its facet size (SizeCriteria). Without those a
-// vertex next to a corner could not move away from it along its curve (part.step: the first
-// vertices of a line and an arc tangent at a corner, both 0.62 mm out, 0.006 mm apart).
+// size and a triangle of a planar patch within its facet size (SizeCriteria). Without the job's
+// sizes a curve vertex whose feature edges are the longest at it could not move along its curve
+// at all: any move lengthens one of them.
 bool boundarySizesHold(const ImprovementMesh& mesh, int64_t v, const Point3& q, double largest,
                        const SizeCriteria& sizes, const std::set<int>& materials) {
   const VertexMobility& m = mesh.mobility(v);

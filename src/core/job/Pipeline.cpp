@@ -111,8 +111,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     report.improve.stats = improveMesh(mesh, improvement, control, &previousIndex);
     snap.renumber(previousIndex);
   }
-  report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle,
-                                         [&criteria](const Point3& p) { return criteria.edgeSizeAt(p); });
+  report.improve.poor = findPoorElements(mesh, report.small_input_angles, features.graph, oracle, improvement.sizes.edge);
   clock.finish("improve");
 
   if (job.element_order == 2) {
