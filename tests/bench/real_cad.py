@@ -94,7 +94,11 @@ def oraclemesh(path, size, diagonal, tmp, timeout, engine, fineness=None):
         entry["materials"] = list(range(1, len(solids) + 1))
     else:
         entry["material"] = 1
+    # Tet4 like the peers, whose volume error is measured here for every mesher alike: the
+    # self-check's default refusal of a linear mesh of a curved part (screw.step is 1.7 % short in
+    # tet4) would leave the row empty.
     job = {"inputs": [entry], "engine": engine, "features": {"sharp_angle_deg": 30}, "element_order": 1,
+           "checks": "warn",
            "limits": {"time_limit": timeout}, "output": {"files": [os.path.join(tmp, "om.vtu")],
                                                          "report": os.path.join(tmp, "om.json")}}
     if size is not None:
