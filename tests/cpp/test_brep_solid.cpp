@@ -8,7 +8,10 @@
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <IGESControl_Controller.hxx>
@@ -169,6 +172,51 @@ TEST(BrepSolid, PartStepInsideAgreesWithClassifier) {
   EXPECT_GT(solid->volume(), 0);
   EXPECT_TRUE(solid->proxyInfo().usable);
   expectInsideAgreesWithClassifier(*solid, 4000, 3);
+}
+
+// Points at 1e-6 to 3e-3 of the diagonal on both sides of every boundary sample (the proxy's
+// bands, where inside() asks the exact side): the nearest analytic face's side, where it
+// answers, is OpenCASCADE's classifier's, and it answers for at least `answeredShare` of them.
+void expectNearestAnalyticFaceSideAgrees(const BrepSolid& solid, double answeredShare, unsigned seed) {
+  const double diagonal = solid.bbox().diagonal();
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> jitter(-1, 1);
+  int asked = 0, answered = 0, disagreements = 0;
+  for (const BoundarySample& s : solid.boundarySamples(diagonal / 40)) {
+    for (double step : {1e-6, 1e-5, 1e-4, 1e-3, 3e-3})
+      for (double sense : {-1.0, 1.0}) {
+        Point3 p = s.point + (sense * step * diagonal) * s.normal;
+        for (int i = 0; i < 3; ++i) p[i] += 0.2 * step * diagonal * jitter(random);
+        ++asked;
+        const std::optional<bool> side = solid.insideByNearestAnalyticFace(p);
+        const bool reference = solid.insideByOpenCascade(p);
+        EXPECT_EQ(solid.insideExact(p), reference) << solid.name() << " at (" << p[0] << ", " << p[1] << ", " << p[2]
+                                                   << ")";
+        if (!side) continue;
+        ++answered;
+        if (*side == reference) continue;
+        ++disagreements;
+        ADD_FAILURE() << solid.name() << ": the nearest analytic face says " << (*side ? "inside" : "outside")
+                      << " at (" << p[0] << ", " << p[1] << ", " << p[2] << "), OpenCASCADE the opposite, "
+                      << distanceToShape(p, solid.shape()) << " from the boundary";
+      }
+  }
+  std::cout << "[ answered ] " << solid.name() << ": " << answered << " of " << asked
+            << " points near the boundary by the nearest analytic face, " << disagreements << " disagreements\n";
+  EXPECT_GE(answered, answeredShare * asked) << solid.name();
+}
+
+TEST(BrepSolid, NearestAnalyticFaceSideIsTheClassifiers) {
+  const gp_Ax2 frame(gp_Pnt(1, 2, 3), gp_Dir(0.2, 0.3, 1));
+  expectNearestAnalyticFaceSideAgrees(BrepSolid(cylinder(), "cylinder"), 0.7, 11);
+  expectNearestAnalyticFaceSideAgrees(BrepSolid(BRepPrimAPI_MakeTorus(frame, 10, 3).Shape(), "torus"), 0.7, 12);
+  expectNearestAnalyticFaceSideAgrees(BrepSolid(BRepPrimAPI_MakeCone(frame, 6, 2, 10).Shape(), "cone"), 0.5, 13);
+  expectNearestAnalyticFaceSideAgrees(BrepSolid(BRepPrimAPI_MakeSphere(frame, 7).Shape(), "sphere"), 0.7, 14);
+  expectNearestAnalyticFaceSideAgrees(*BrepSolid::fromFile(cadDir() + "/part.step", "part"), 0.5, 15);
+  // The presse's load cell (tori), the fixed body and the nut (cones, a sphere).
+  const BrepSolid::Loaded presse =
+      BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
+  for (int k : {9, 14, 15}) expectNearestAnalyticFaceSideAgrees(*presse.solids[k - 1], 0.5, 16 + k);
 }
 
 TEST(BrepSolid, ConcurrentQueriesGiveTheSequentialAnswers) {

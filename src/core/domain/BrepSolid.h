@@ -6,6 +6,7 @@
 #include <TopoDS_Shape.hxx>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -109,9 +110,14 @@ class BrepSolid : public Source, public BrepTopology {
     int64_t unpairedEdges = 0;    // tessellation edges used an odd number of times (gaps)
   };
   const ProxyInfo& proxyInfo() const;
-  // The OpenCASCADE answer alone (BRepClass3d_SolidClassifier per solid), bypassing the
-  // proxy: the reference for tests and for callers that need it near the boundary.
+  // The exact answer, bypassing the proxy, for callers that need it near the boundary: the
+  // side of the nearest analytic face where that is proven (Classification.cpp), else
+  // OpenCASCADE's.
   bool insideExact(const Point3& p) const;
+  // OpenCASCADE's answer alone (BRepClass3d_SolidClassifier per solid): the reference for tests.
+  bool insideByOpenCascade(const Point3& p) const;
+  // The side of the nearest analytic face where that is proven, else nothing (exposed for tests).
+  std::optional<bool> insideByNearestAnalyticFace(const Point3& p) const;
 
  private:
   struct Impl;

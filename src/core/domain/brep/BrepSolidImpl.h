@@ -36,6 +36,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,7 @@ struct BrepSolid::Impl {
   // edge, where the face reaches beyond the edge's polygon by the polygon's sagitta (a hole
   // in a planar face). The candidate test widens each face's band by that much.
   std::vector<double> crossingBand;
+  double maxCrossingBand = 0;
   // crossings(): what a Newton iteration on the exact surface needs from each proxy triangle
   // (same order as proxyFaceOfTriangle). `regular`: it has surface parameters and the
   // surface has a normal all over it that keeps one side (no pole, no fold). `tilt`: the
@@ -228,7 +230,9 @@ struct BrepSolid::Impl {
   enum class Domain { In, Out, Unsure };
   Domain domainByTriangles(const gp_Pnt& p, int face, double& u, double& v, const size_t* triangles,
                            size_t count) const;
-  bool classifyExact(const Point3& p) const;
+  bool classifyExact(const Point3& p) const;  // the next one where it is sure, else the last
+  std::optional<bool> sideOfNearestAnalyticFace(const Point3& p) const;
+  bool classifyByOpenCascade(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
   // A face the segment may cross, and the part [t0, t1] of the segment where it may.
   // A proxy triangle near the segment and where the segment's line meets its plane

@@ -250,6 +250,7 @@ void probeQueries(const BrepSolid& solid) {
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k) {
         const Point3 p = at((i + 0.5) / n, (j + 0.5) / n, (k + 0.5) / n);
+        solid.insideByOpenCascade(p);
         solid.insideExact(p);
         solid.inside(p);
       }

@@ -241,6 +241,7 @@ void BrepSolid::Impl::measureCrossingBands() {
     // a margin as in the face bands.
     crossingBand[f] = faceBand[f] + 1.5 * sagitta;
   }
+  maxCrossingBand = crossingBand.empty() ? 0.0 : *std::max_element(crossingBand.begin(), crossingBand.end());
 }
 
 Kernel::Triangle_3 BrepSolid::Impl::proxyTriangle(ProxyMesh::Face_index f) const {
