@@ -2,6 +2,7 @@
 // Per-material refinement criteria (thesis §2.3.3, Rule Set R; same meaning as CGAL Mesh_3's criteria).
 // Lengths are in model units (mm in FreeCAD).
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -59,23 +60,37 @@ struct CriteriaTable {
     return it == per_material.end() ? defaults : it->second;
   }
 
+  // The two fields at one point (infinity where a field is not set): a facet's criteria for
+  // both of its materials read them once instead of once per material and criterion.
+  struct FieldValues {
+    double field = std::numeric_limits<double>::infinity();
+    double gap = std::numeric_limits<double>::infinity();
+  };
+  FieldValues fieldsAt(const Point3& p) const {
+    FieldValues v;
+    if (field) v.field = field->at(p);
+    if (gap_field) v.gap = gap_field->at(p);
+    return v;
+  }
+
   // The criteria at p, a point of (or on the boundary of) `material`: the constants, lowered by
   // the sizing field where the job left them unset, and on the surfaces by the gap sizes.
   double cellSizeAt(int material, const Point3& p) const {
     const MaterialCriteria& c = of(material);
     return field && c.from_field.cell_size ? std::min(c.cell_size, field->at(p)) : c.cell_size;
   }
-  double facetSizeAt(int material, const Point3& p) const {
+  double facetSizeAt(int material, const Point3& p) const { return facetSize(material, fieldsAt(p)); }
+  double facetDistanceAt(int material, const Point3& p) const { return facetDistance(material, fieldsAt(p)); }
+  double facetSize(int material, const FieldValues& at) const {
     const MaterialCriteria& c = of(material);
-    const double size = field && c.from_field.facet_size ? std::min(c.facet_size, field->at(p)) : c.facet_size;
-    return gap_field ? std::min(size, gap_field->at(p)) : size;
+    const double size = c.from_field.facet_size ? std::min(c.facet_size, at.field) : c.facet_size;
+    return std::min(size, at.gap);
   }
-  double facetDistanceAt(int material, const Point3& p) const {
+  double facetDistance(int material, const FieldValues& at) const {
     const MaterialCriteria& c = of(material);
-    const double distance = field && c.from_field.facet_distance
-                                ? std::min(c.facet_distance, kFacetDistancePerSize * field->at(p))
-                                : c.facet_distance;
-    return gap_field ? std::min(distance, kFacetDistancePerSize * gap_field->at(p)) : distance;
+    const double distance =
+        c.from_field.facet_distance ? std::min(c.facet_distance, kFacetDistancePerSize * at.field) : c.facet_distance;
+    return std::min(distance, kFacetDistancePerSize * at.gap);
   }
   // Feature edges belong to no one material: the strictest edge_size, lowered by the field
   // unless some material was given its edge size, and by the gaps.

@@ -47,10 +47,11 @@ double FacetCriteria::bound(const FacetShape& f, double MaterialCriteria::*field
   return bound;
 }
 
-double FacetCriteria::bound(const FacetShape& f, double (CriteriaTable::*sizeAt)(int, const Point3&) const) const {
+double FacetCriteria::bound(const FacetShape& f, const CriteriaTable::FieldValues& at,
+                            double (CriteriaTable::*size)(int, const CriteriaTable::FieldValues&) const) const {
   double bound = std::numeric_limits<double>::infinity();
   for (int m : {f.labelA, f.labelB})
-    if (m > 0) bound = std::min(bound, (table_.*sizeAt)(m, f.ballCentre));
+    if (m > 0) bound = std::min(bound, (table_.*size)(m, at));
   return bound;
 }
 
@@ -63,12 +64,13 @@ FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
   }
   double worst = 0;
   const double r = FacetSizeCriterion::ballRadius(f);
-  const FacetSizeCriterion size{bound(f, &CriteriaTable::facetSizeAt)};
+  const CriteriaTable::FieldValues at = table_.fieldsAt(f.ballCentre);
+  const FacetSizeCriterion size{bound(f, at, &CriteriaTable::facetSize)};
   if (size.fails(r)) {
     worst = r / size.bound;
     v.reason = "surface Delaunay ball radius above facet_size";
   }
-  const FacetDistanceCriterion distance{bound(f, &CriteriaTable::facetDistanceAt)};
+  const FacetDistanceCriterion distance{bound(f, at, &CriteriaTable::facetDistance)};
   if (distance.bound > 0) {
     const double d = FacetDistanceCriterion::distance(f);
     if (d > distance.bound && d / distance.bound > worst) {

@@ -85,9 +85,10 @@ class FacetCriteria {
   FacetVerdict judge(const FacetShape& f, bool withAngle = true) const;
 
   // The smallest bound over the positive materials on either side (infinity: none): of a
-  // constant criterion, or of a size at the facet's ball centre (CriteriaTable::facetSizeAt).
+  // constant criterion, or of a size from the fields at the facet's ball centre (CriteriaTable::facetSize).
   double bound(const FacetShape& f, double MaterialCriteria::*field) const;
-  double bound(const FacetShape& f, double (CriteriaTable::*sizeAt)(int, const Point3&) const) const;
+  double bound(const FacetShape& f, const CriteriaTable::FieldValues& at,
+               double (CriteriaTable::*size)(int, const CriteriaTable::FieldValues&) const) const;
 
  private:
   const CriteriaTable& table_;

@@ -49,6 +49,20 @@ bool RuleSetTRefiner::isSliver(CH c) const {
 // (the repair by T3 would start a cascade of insertions, each with new slivers).
 double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
   const Point3 apex = toPoint3(zone.point);
+  // A new cell's circumcentre lies at its radius r from the new point, so the sizing field
+  // there is at least its value at the point minus grading * r (the field is Lipschitz): a
+  // cell that small passes its cell size without a query of the field. The value at the
+  // point is read once, on the first cell that needs it.
+  const CriteriaTable& criteria = options_.criteria;
+  double fieldAtApex = -1;
+  auto cellSizeHolds = [&](const MaterialCriteria& crit, int label, const K::Point_3& centre, double r) {
+    if (!(criteria.field && crit.from_field.cell_size)) return !(crit.cell_size > 0 && r > crit.cell_size);
+    if (fieldAtApex < 0) fieldAtApex = criteria.field->at(apex);
+    const double lower = std::min(crit.cell_size, (fieldAtApex - criteria.field->grading() * r) * (1 - 1e-9));
+    if (r <= lower) return true;
+    const double cellSize = criteria.cellSizeAt(label, toPoint3(centre));
+    return !(cellSize > 0 && r > cellSize);
+  };
   double worst = 180;
   for (CH c : zone.cells) {
     if (c->info().label <= 0) continue;
@@ -59,15 +73,13 @@ double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
       if (dt_.is_infinite(a) || dt_.is_infinite(b) || dt_.is_infinite(d)) continue;
       const auto centre = CGAL::circumcenter(a->point(), b->point(), d->point(), zone.point);
       const double r = std::sqrt(CGAL::squared_distance(centre, zone.point));
-      const double cellSize = options_.criteria.cellSizeAt(c->info().label, toPoint3(centre));
       double shortest =
           std::min({CGAL::squared_distance(a->point(), b->point()), CGAL::squared_distance(b->point(), d->point()),
                     CGAL::squared_distance(d->point(), a->point())});
       for (VH w : {a, b, d}) shortest = std::min(shortest, CGAL::squared_distance(w->point(), zone.point));
       shortest = std::sqrt(shortest);
-      if ((cellSize > 0 && r > cellSize) ||
-          (crit.cell_radius_edge_ratio > 0 && r > crit.cell_radius_edge_ratio * shortest))
-        return -1;
+      if (crit.cell_radius_edge_ratio > 0 && r > crit.cell_radius_edge_ratio * shortest) return -1;
+      if (!cellSizeHolds(crit, c->info().label, centre, r)) return -1;
       worst = std::min(worst, refine::minDihedralDeg(toPoint3(a->point()), toPoint3(b->point()),
                                                      toPoint3(d->point()), apex));
     }
