@@ -250,6 +250,14 @@ TEST(BrepSolid, ProjectionLandsOnTheFace) {
   expectProjectionOnFaces(cylinderSolid, 200, 6);
   const auto part = BrepSolid::fromFile(cadDir() + "/part.step", "part");
   expectProjectionOnFaces(*part, 300, 7);
+  // Analytic faces answer in closed form where their surface's foot lies in the face.
+  const gp_Ax2 frame(gp_Pnt(1, 2, 3), gp_Dir(0.2, 0.3, 1));
+  expectProjectionOnFaces(BrepSolid(BRepPrimAPI_MakeTorus(frame, 10, 3).Shape(), "torus"), 200, 8);
+  expectProjectionOnFaces(BrepSolid(BRepPrimAPI_MakeCone(frame, 6, 2, 10).Shape(), "cone"), 200, 9);
+  expectProjectionOnFaces(BrepSolid(BRepPrimAPI_MakeSphere(frame, 7).Shape(), "sphere"), 200, 10);
+  const BrepSolid::Loaded presse =
+      BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
+  for (int k : {9, 15}) expectProjectionOnFaces(*presse.solids[k - 1], 200, 10 + k);
 }
 
 TEST(BrepSolid, ProjectOnEdgeIsOnTheEdge) {

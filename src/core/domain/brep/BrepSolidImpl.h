@@ -234,6 +234,15 @@ struct BrepSolid::Impl {
   std::optional<bool> sideOfNearestAnalyticFace(const Point3& p) const;
   bool classifyByOpenCascade(const Point3& p) const;
   BoundaryProjection projectOnFace(const gp_Pnt& p, int face) const;
+  // The nearest point to p of an analytic face's whole surface (closed form), with its
+  // parameters, its distance and the distance of the next extremum (infinity if none);
+  // nothing on other faces or where the extrema are not defined (p on an axis, at a centre).
+  struct SurfaceFoot {
+    gp_Pnt point;
+    double u = 0, v = 0;
+    double distance = 0, nextDistance = 0;
+  };
+  std::optional<SurfaceFoot> analyticFoot(const gp_Pnt& p, int face) const;
   // A face the segment may cross, and the part [t0, t1] of the segment where it may.
   // A proxy triangle near the segment and where the segment's line meets its plane
   // (segment parameter, barycentric weights).

@@ -3,15 +3,8 @@
 // can be proven; else OpenCASCADE's classifiers, one pool per solid.
 #include "domain/brep/BrepSolidImpl.h"
 
-#include <Extrema_ExtPElS.hxx>
-#include <Extrema_POnSurf.hxx>
 #include <Standard_Failure.hxx>
-#include <gp_Cone.hxx>
-#include <gp_Cylinder.hxx>
-#include <gp_Pln.hxx>
-#include <gp_Sphere.hxx>
 
-#include <limits>
 #include <optional>
 
 #include "Error.h"
@@ -78,56 +71,22 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
   if (surface.kind == AnalyticSurface::Kind::None) return std::nullopt;
 
   const gp_Pnt gp = toGp(p);
-  const double extremaTolerance = 1e-12 * diagonal;
-  Extrema_ExtPElS extrema;
-  switch (surface.kind) {
-    case AnalyticSurface::Kind::Plane:
-      extrema.Perform(gp, gp_Pln(surface.frame), extremaTolerance);
-      break;
-    case AnalyticSurface::Kind::Cylinder:
-      extrema.Perform(gp, gp_Cylinder(surface.frame, surface.radius), extremaTolerance);
-      break;
-    case AnalyticSurface::Kind::Cone:
-      extrema.Perform(gp, gp_Cone(surface.frame, std::atan(surface.tanAngle), surface.radius), extremaTolerance);
-      break;
-    case AnalyticSurface::Kind::Sphere:
-      extrema.Perform(gp, gp_Sphere(surface.frame, surface.radius), extremaTolerance);
-      break;
-    case AnalyticSurface::Kind::Torus:
-      extrema.Perform(gp, surface.torus, extremaTolerance);
-      break;
-    case AnalyticSurface::Kind::None:
-      return std::nullopt;
-  }
-  if (!extrema.IsDone() || extrema.NbExt() == 0) return std::nullopt;
-  int best = 0;
-  double bestSquared = std::numeric_limits<double>::infinity(), secondSquared = bestSquared;
-  for (int i = 1; i <= extrema.NbExt(); ++i) {
-    const double d2 = extrema.SquareDistance(i);
-    if (d2 < bestSquared) {
-      secondSquared = bestSquared;
-      bestSquared = d2;
-      best = i;
-    } else {
-      secondSquared = std::min(secondSquared, d2);
-    }
-  }
-  const double r = std::sqrt(bestSquared);
+  const std::optional<SurfaceFoot> foot = analyticFoot(gp, face);
+  if (!foot) return std::nullopt;
+  const double r = foot->distance;
   const double margin = 100 * classifyTolerance;
   // Near the surface OpenCASCADE's tolerance decides; two feet about as near (a point near an
   // axis or a centre) leave the nearest one in doubt.
-  if (r <= margin || std::sqrt(secondSquared) <= r + margin) return std::nullopt;
-
-  double u = 0, v = 0;
-  extrema.Point(best).Parameter(u, v);
-  gp_Pnt foot;
+  if (r <= margin || foot->nextDistance <= r + margin) return std::nullopt;
+  const double u = foot->u, v = foot->v;
+  gp_Pnt onSurface;
   gp_Vec du, dv;
-  faceSurface[face]->D1(u, v, foot, du, dv);
+  faceSurface[face]->D1(u, v, onSurface, du, dv);
   gp_Vec normal = du.Crossed(dv);
   if (normal.Magnitude() <= 1e-9 * du.Magnitude() * dv.Magnitude()) return std::nullopt;  // apex, pole
   if (faces[face].Orientation() == TopAbs_REVERSED) normal.Reverse();
-  const gp_Vec away(foot, gp);
-  // The foot from the parameters must be the extremum's point (same parametrisation).
+  const gp_Vec away(onSurface, gp);
+  // The face's surface at the parameters must be the foot (the same parametrisation).
   if (std::abs(away.Magnitude() - r) > margin) return std::nullopt;
 
   // Every other face farther than r: one traversal that stops at the first triangle that may

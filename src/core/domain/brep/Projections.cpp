@@ -7,10 +7,18 @@
 #include <BRep_Tool.hxx>
 #include <Precision.hxx>
 #include <ShapeAnalysis_Surface.hxx>
+#include <Extrema_ExtPElS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <Standard_Failure.hxx>
+#include <gp_Cone.hxx>
+#include <gp_Cylinder.hxx>
+#include <gp_Pln.hxx>
+#include <gp_Sphere.hxx>
 #include <TopLoc_Location.hxx>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 
 #include "Error.h"
@@ -19,8 +27,66 @@
 
 namespace oraclemesh {
 
+std::optional<BrepSolid::Impl::SurfaceFoot> BrepSolid::Impl::analyticFoot(const gp_Pnt& p, int face) const {
+  const AnalyticSurface& surface = analytic[face];
+  const double tolerance = 1e-12 * diagonal;
+  Extrema_ExtPElS extrema;
+  switch (surface.kind) {
+    case AnalyticSurface::Kind::Plane:
+      extrema.Perform(p, gp_Pln(surface.frame), tolerance);
+      break;
+    case AnalyticSurface::Kind::Cylinder:
+      extrema.Perform(p, gp_Cylinder(surface.frame, surface.radius), tolerance);
+      break;
+    case AnalyticSurface::Kind::Cone:
+      extrema.Perform(p, gp_Cone(surface.frame, std::atan(surface.tanAngle), surface.radius), tolerance);
+      break;
+    case AnalyticSurface::Kind::Sphere:
+      extrema.Perform(p, gp_Sphere(surface.frame, surface.radius), tolerance);
+      break;
+    case AnalyticSurface::Kind::Torus:
+      extrema.Perform(p, surface.torus, tolerance);
+      break;
+    case AnalyticSurface::Kind::None:
+      return std::nullopt;
+  }
+  if (!extrema.IsDone() || extrema.NbExt() == 0) return std::nullopt;
+  int best = 0;
+  double bestSquared = std::numeric_limits<double>::infinity(), nextSquared = bestSquared;
+  for (int i = 1; i <= extrema.NbExt(); ++i) {
+    const double d2 = extrema.SquareDistance(i);
+    if (d2 < bestSquared) {
+      nextSquared = bestSquared;
+      bestSquared = d2;
+      best = i;
+    } else {
+      nextSquared = std::min(nextSquared, d2);
+    }
+  }
+  SurfaceFoot foot;
+  foot.point = extrema.Point(best).Value();
+  extrema.Point(best).Parameter(foot.u, foot.v);
+  foot.distance = std::sqrt(bestSquared);
+  foot.nextDistance = std::sqrt(nextSquared);
+  return foot;
+}
+
 BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) const {
   BoundaryProjection best;
+  // On an analytic face whose surface's nearest point lies in the face, that point is the
+  // face's nearest: no trimmed-face search (DistShapeShape was a third of the refinement of
+  // presse_asm, through the gap criterion's projections).
+  if (const std::optional<SurfaceFoot> foot = analyticFoot(p, face)) {
+    std::unique_ptr<FaceIntersectors> lease = leaseIntersectors();
+    const bool inDomain = domainOf(*lease, face).Perform(gp_Pnt2d(foot->u, foot->v)) == TopAbs_IN;
+    giveBack(std::move(lease));
+    if (inDomain) {
+      best.point = toPoint3(foot->point);
+      best.distance = foot->distance;
+      best.patch = face;
+      return best;
+    }
+  }
   // DistShapeShape handles the trimmed face completely: the surface extremum when its
   // (u,v) classifies inside the face, else the nearest point of the bounding edges.
   BRepExtrema_DistShapeShape dist(BRepBuilderAPI_MakeVertex(p).Vertex(), faces[face], Extrema_ExtFlag_MIN);
