@@ -4,9 +4,10 @@ the time goes. Run with freecadcmd (the workbench and the core from this tree's 
     ORACLEMESH_BUILD_DIR=build PRESSE_JOB_OUT=/tmp/presse_job.json \
         freecadcmd tests/bench/presse_in_freecad.py
 
-Headless, Import.insert with merge=True crashes FreeCAD 0.20.2, so the assembly tree is read
-with merge=False and merged into one Part::Feature holding the root's compound, as the GUI's
-STEP import gives it. The mesh object is made with the preferences' options (what
+The assembly is imported as File > Import does (the workbench's `import_assembly`, which
+headless builds FreeCAD's merged compound from the unmerged tree), and the mesh command is given
+the STEP file as the GUI's is, so the job carries the file's declared uncertainty (0.074 mm) as
+its contact tolerance. The mesh object is made with the preferences' options (what
 "Mesh selection with OracleMesh" records), then recomputed under cProfile. Prints the wall
 time, the core's seconds per phase, the Python functions that took longest, and (with
 PRESSE_JOB_OUT) writes the job the workbench sent, so the CLI can rerun it:
@@ -27,18 +28,13 @@ STEP = os.path.join(os.environ.get("ORACLEMESH_CAD_DIR", os.path.join(REPO, ".."
                     "presse_asm.step")
 
 import FreeCAD  # noqa: E402
-import Import  # noqa: E402
-import Part  # noqa: E402
 from oraclemesh_fc import makeMesh, preferences  # noqa: E402
 from oraclemesh_fc.job import build_job  # noqa: E402
+from oraclemesh_fc.step_labels import import_assembly  # noqa: E402
 
 doc = FreeCAD.newDocument("Presse")
-Import.insert(STEP, doc.Name, merge=False)
-root = [o for o in doc.Objects if not o.InList][0]
-presse = doc.addObject("Part::Feature", "PresseAsm")
-presse.Shape = Part.getShape(root)
-doc.recompute()
-mesh = makeMesh(doc, [presse], **preferences.mesh_options([presse]))
+presse = import_assembly(doc, STEP)
+mesh = makeMesh(doc, [presse], step_file=STEP, **preferences.mesh_options([presse]))
 if os.environ.get("PRESSE_JOB_OUT"):
     with open(os.environ["PRESSE_JOB_OUT"], "w") as f:
         json.dump(build_job(mesh)[0], f)
@@ -49,7 +45,10 @@ profile.enable()
 doc.recompute()
 profile.disable()
 print("recompute: %.1f s wall; %s" % (time.time() - start, mesh.Status[:200]))
-seconds = json.loads(mesh.Report).get("seconds", {}) if mesh.Report else {}
+report = json.loads(mesh.Report) if mesh.Report else {}
+seconds = report.get("seconds", {})
+print("contact tolerance: %s; %s tets; min dihedral %s" % (report.get("contact_tolerance"), report.get("counts", {}).get("tets"),
+                                                         report.get("quality", {}).get("min_dihedral_deg")))
 print("core seconds per phase:", ", ".join("%s %.1f" % kv for kv in sorted(seconds.items()) if kv[1] >= 0.1))
 text = io.StringIO()
 pstats.Stats(profile, stream=text).sort_stats("cumulative").print_stats(12)
