@@ -6,6 +6,7 @@
 #include <Standard_Failure.hxx>
 
 #include <optional>
+#include <string>
 
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
@@ -13,42 +14,54 @@
 
 namespace oraclemesh {
 
-// The proxy's side answer holds at q when q is outside every face's band: farther from that
-// face's triangles than twice the face's deviation from the B-rep.
-bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
-  // One traversal that stops at the first triangle within its face's band. Boxes are pruned
-  // by a plain floating-point distance with a relative margin: CGAL's exact ball/box
-  // predicate falls back to multi-precision arithmetic so often that it cost a third of
-  // inside(), and a prefilter only needs to never prune a box it should keep.
-  struct Traversal {
-    const Impl& m;
-    KPoint q;
-    double reachSquared;
-    bool trusted = true;
+namespace {
 
-    double squaredDistanceToBox(const CGAL::Bbox_3& box) const {
-      double sum = 0;
-      for (int i = 0; i < 3; ++i) {
-        const double c = q[i];
-        const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
-        sum += gap * gap;
-      }
-      return sum;
-    }
-    bool go_further() const { return trusted; }
-    void intersection(int, const ProxyPrimitive& primitive) {
-      const size_t id = static_cast<size_t>(primitive.id());
-      const double band = m.faceBand[m.proxyFaceOfTriangle[id]];
-      if (squaredDistanceToBox(m.proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return;
-      if (CGAL::to_double(CGAL::squared_distance(q, m.proxyTriangle(primitive.id()))) <= band * band) trusted = false;
-    }
-    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
-      return squaredDistanceToBox(node.bbox()) <= reachSquared;
-    }
-  };
-  Traversal traversal{*this, q, proxy.exactBand * proxy.exactBand * (1 + 1e-9)};
-  proxyTree->traversal(0, traversal);
-  return traversal.trusted;
+double squaredDistanceToBox(const KPoint& q, const CGAL::Bbox_3& box) {
+  double sum = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double c = q[i];
+    const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
+    sum += gap * gap;
+  }
+  return sum;
+}
+
+// A traversal of the proxy tree that hands `visit` each triangle whose node boxes come within
+// sqrt(reachSquared) of q, until `visit` returns false. Boxes are pruned by a plain
+// floating-point distance (the caller's reach carries a relative margin): CGAL's exact
+// ball/box predicate falls back to multi-precision arithmetic so often that it cost a third
+// of inside(), and a prefilter only needs to never prune a box it should keep.
+template <class Visit>
+struct TrianglesNear {
+  KPoint q;
+  double reachSquared;
+  Visit visit;
+  bool going = true;
+  bool go_further() const { return going; }
+  void intersection(int, const ProxyPrimitive& primitive) { going = visit(static_cast<size_t>(primitive.id())); }
+  bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+    return squaredDistanceToBox(q, node.bbox()) <= reachSquared;
+  }
+};
+
+template <class Visit>
+bool visitTrianglesNear(const ProxyTree& tree, const KPoint& q, double reach, Visit visit) {
+  TrianglesNear<Visit> traversal{q, reach * reach * (1 + 1e-9), visit};
+  tree.traversal(0, traversal);
+  return traversal.going;
+}
+
+}  // namespace
+
+// The proxy's side answer holds at q when q is outside every face's band: farther from that
+// face's triangles than twice the face's deviation from the B-rep. Stops at the first
+// triangle within its face's band.
+bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
+  return visitTrianglesNear(*proxyTree, q, proxy.exactBand, [&](size_t id) {
+    const double band = faceBand[proxyFaceOfTriangle[id]];
+    if (squaredDistanceToBox(q, proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return true;
+    return CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(ProxyMesh::Face_index(id)))) > band * band;
+  });
 }
 
 // OpenCASCADE's classifier shoots a ray from the point and, for each query, looks for a point
@@ -90,40 +103,16 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
   if (std::abs(away.Magnitude() - r) > margin) return std::nullopt;
 
   // Every other face farther than r: one traversal that stops at the first triangle that may
-  // come nearer, with the plain floating-point box distance of proxyTrusted().
-  struct Traversal {
-    const Impl& m;
-    KPoint q;
-    int face;
-    double r, reachSquared;
-    bool clear = true;
-    double squaredDistanceToBox(const CGAL::Bbox_3& box) const {
-      double sum = 0;
-      for (int i = 0; i < 3; ++i) {
-        const double c = q[i];
-        const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
-        sum += gap * gap;
-      }
-      return sum;
-    }
-    bool go_further() const { return clear; }
-    void intersection(int, const ProxyPrimitive& primitive) {
-      const size_t id = static_cast<size_t>(primitive.id());
-      const int other = m.proxyFaceOfTriangle[id];
-      if (other == face) return;
-      const double reach = r + m.crossingBand[other];
-      if (squaredDistanceToBox(m.proxyTriangleBox[id]) > reach * reach * (1 + 1e-9)) return;
-      if (std::sqrt(CGAL::to_double(CGAL::squared_distance(q, m.proxyTriangle(primitive.id())))) <= reach * (1 + 1e-9))
-        clear = false;
-    }
-    bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
-      return squaredDistanceToBox(node.bbox()) <= reachSquared;
-    }
-  };
-  const double widest = r + maxCrossingBand;
-  Traversal traversal{*this, kp, face, r, widest * widest * (1 + 1e-9)};
-  proxyTree->traversal(0, traversal);
-  if (!traversal.clear) return std::nullopt;
+  // come nearer.
+  const bool clear = visitTrianglesNear(*proxyTree, kp, r + maxCrossingBand, [&](size_t id) {
+    const int other = proxyFaceOfTriangle[id];
+    if (other == face) return true;
+    const double reach = r + crossingBand[other];
+    if (squaredDistanceToBox(kp, proxyTriangleBox[id]) > reach * reach * (1 + 1e-9)) return true;
+    return std::sqrt(CGAL::to_double(CGAL::squared_distance(kp, proxyTriangle(ProxyMesh::Face_index(id))))) >
+           reach * (1 + 1e-9);
+  });
+  if (!clear) return std::nullopt;
 
   std::unique_ptr<FaceIntersectors> lease = leaseIntersectors();
   const bool inDomain = domainOf(*lease, face).Perform(gp_Pnt2d(u, v)) == TopAbs_IN;
@@ -164,36 +153,35 @@ bool BrepSolid::Impl::classifyByOpenCascade(const Point3& p) const {
   return false;
 }
 
-bool BrepSolid::insideExact(const Point3& p) const {
-  if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
-  const OpenCascadeWork working(impl_->name);
+namespace {
+
+// An exact classification of input `name`, with OpenCASCADE's failures turned into an Error
+// that names the input.
+template <class Classify>
+auto classifying(const std::string& name, Classify classify) -> decltype(classify()) {
+  const OpenCascadeWork working(name);
   try {
-    return impl_->classifyExact(p);
+    return classify();
   } catch (const Standard_Failure& failure) {
-    throw Error("OpenCASCADE failed to classify a point against input '" + impl_->name + "' (" +
+    throw Error("OpenCASCADE failed to classify a point against input '" + name + "' (" +
                 failure.GetMessageString() + "): check the solid with Part > Check geometry");
   }
+}
+
+}  // namespace
+
+bool BrepSolid::insideExact(const Point3& p) const {
+  if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
+  return classifying(impl_->name, [&] { return impl_->classifyExact(p); });
 }
 
 bool BrepSolid::insideByOpenCascade(const Point3& p) const {
   if (!impl_->box.contains(p, impl_->classifyTolerance)) return false;
-  const OpenCascadeWork working(impl_->name);
-  try {
-    return impl_->classifyByOpenCascade(p);
-  } catch (const Standard_Failure& failure) {
-    throw Error("OpenCASCADE failed to classify a point against input '" + impl_->name + "' (" +
-                failure.GetMessageString() + "): check the solid with Part > Check geometry");
-  }
+  return classifying(impl_->name, [&] { return impl_->classifyByOpenCascade(p); });
 }
 
 std::optional<bool> BrepSolid::insideByNearestAnalyticFace(const Point3& p) const {
-  const OpenCascadeWork working(impl_->name);
-  try {
-    return impl_->sideOfNearestAnalyticFace(p);
-  } catch (const Standard_Failure& failure) {
-    throw Error("OpenCASCADE failed to classify a point against input '" + impl_->name + "' (" +
-                failure.GetMessageString() + ")");
-  }
+  return classifying(impl_->name, [&] { return impl_->sideOfNearestAnalyticFace(p); });
 }
 
 bool BrepSolid::inside(const Point3& p) const {
