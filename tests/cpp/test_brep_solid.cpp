@@ -129,8 +129,8 @@ void expectSamplesOnEveryFaceWithOutwardNormals(const BrepSolid& solid) {
     EXPECT_NEAR(norm(s.normal), 1.0, 1e-9);
     EXPECT_LT(distanceToShape(s.point, solid.face(s.patch)), 1e-9 * diagonal);
     const double step = 1e-4 * diagonal;
-    EXPECT_FALSE(solid.insideExact(s.point + step * s.normal)) << "normal points inward on face " << s.patch;
-    EXPECT_TRUE(solid.insideExact(s.point - step * s.normal)) << "normal points inward on face " << s.patch;
+    EXPECT_FALSE(solid.insideByOpenCascade(s.point + step * s.normal)) << "normal points inward on face " << s.patch;
+    EXPECT_TRUE(solid.insideByOpenCascade(s.point - step * s.normal)) << "normal points inward on face " << s.patch;
   }
   for (int f = 0; f < solid.faceCount(); ++f) EXPECT_GT(perFace[f], 0) << "no sample on face " << f;
   // Deterministic order and content.
