@@ -5,6 +5,8 @@
 
 #include <Standard_Failure.hxx>
 
+#include <algorithm>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -51,6 +53,30 @@ bool visitTrianglesNear(const ProxyTree& tree, const KPoint& q, double reach, Vi
   return traversal.going;
 }
 
+// The proxy triangle nearest to q among those within `reach`, by the same plain distances:
+// CGAL's closest-point query compares distances with exact predicates, and the closest point
+// of a degenerate tessellation triangle (NaN) turns that into a GMP conversion of NaN, which
+// raises SIGFPE. A NaN distance is never the nearest here.
+template <class SquaredDistance>
+struct NearestTriangle {
+  KPoint q;
+  double bestSquared;
+  SquaredDistance squaredDistance;
+  size_t best = std::numeric_limits<size_t>::max();
+  bool go_further() const { return true; }
+  void intersection(int, const ProxyPrimitive& primitive) {
+    const size_t id = static_cast<size_t>(primitive.id());
+    const double d2 = squaredDistance(id);
+    if (d2 < bestSquared) {
+      bestSquared = d2;
+      best = id;
+    }
+  }
+  bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
+    return squaredDistanceToBox(q, node.bbox()) < bestSquared;
+  }
+};
+
 }  // namespace
 
 // The proxy's side answer holds at q when q is outside every face's band: farther from that
@@ -60,7 +86,8 @@ bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
   return visitTrianglesNear(*proxyTree, q, proxy.exactBand, [&](size_t id) {
     const double band = faceBand[proxyFaceOfTriangle[id]];
     if (squaredDistanceToBox(q, proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return true;
-    return CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(ProxyMesh::Face_index(id)))) > band * band;
+    // Not "> band * band": a degenerate triangle's NaN distance must not end the traversal.
+    return !(CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(ProxyMesh::Face_index(id)))) <= band * band);
   });
 }
 
@@ -78,8 +105,16 @@ bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
 std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) const {
   if (!proxy.usable || solids.size() != 1) return std::nullopt;
   const KPoint kp(p[0], p[1], p[2]);
-  const auto nearest = proxyTree->closest_point_and_primitive(kp);
-  const int face = proxyFaceOfTriangle[static_cast<size_t>(nearest.second)];
+  // inside() asks only within the bands; insideExact() anywhere: points farther than 1 % of
+  // the diagonal from every triangle (and beyond the bands) are left to OpenCASCADE.
+  const double searchReach = std::max(proxy.exactBand + 2 * maxCrossingBand, 1e-2 * diagonal);
+  auto squaredDistance = [&](size_t id) {
+    return CGAL::to_double(CGAL::squared_distance(kp, proxyTriangle(ProxyMesh::Face_index(id))));
+  };
+  NearestTriangle<decltype(squaredDistance)> nearest{kp, searchReach * searchReach, squaredDistance};
+  proxyTree->traversal(0, nearest);
+  if (nearest.best == std::numeric_limits<size_t>::max()) return std::nullopt;
+  const int face = proxyFaceOfTriangle[nearest.best];
   const AnalyticSurface& surface = analytic[face];
   if (surface.kind == AnalyticSurface::Kind::None) return std::nullopt;
 
@@ -109,8 +144,9 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
     if (other == face) return true;
     const double reach = r + crossingBand[other];
     if (squaredDistanceToBox(kp, proxyTriangleBox[id]) > reach * reach * (1 + 1e-9)) return true;
-    return std::sqrt(CGAL::to_double(CGAL::squared_distance(kp, proxyTriangle(ProxyMesh::Face_index(id))))) >
-           reach * (1 + 1e-9);
+    // A NaN distance (a degenerate triangle) counts as near: the proof then leaves the answer
+    // to OpenCASCADE.
+    return std::sqrt(squaredDistance(id)) > reach * (1 + 1e-9);
   });
   if (!clear) return std::nullopt;
 
