@@ -54,9 +54,12 @@ struct Bbox {
     add(b.min);
     add(b.max);
   }
+  // Written so that a NaN coordinate is never contained: every query that starts with this
+  // test then keeps a NaN point (a rounding accident upstream) away from CGAL's exact
+  // predicates and OpenCASCADE.
   bool contains(const Point3& p, double margin = 0) const {
     for (int i = 0; i < 3; ++i)
-      if (p[i] < min[i] - margin || p[i] > max[i] + margin) return false;
+      if (!(p[i] >= min[i] - margin && p[i] <= max[i] + margin)) return false;
     return true;
   }
   double diagonal() const { return empty() ? 0.0 : distance(min, max); }

@@ -3,12 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <set>
 #include <utility>
 
+#include "Error.h"
 #include "domain/Sphere.h"
 #include "mesh/Quality.h"
+#include "refine/Circumcentre.h"
 #include "refine/RuleSetTRefiner.h"
 
 namespace oraclemesh::refine {
@@ -47,6 +50,51 @@ struct Refiner {
   CH anyCell() const { return refiner.triangulation().finite_cells_begin(); }
   size_t vertices() const { return refiner.triangulation().number_of_vertices(); }
 };
+
+bool finitePoint(const CgalPoint& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
+
+// The presse nut's refinement (PresseNutThesis) once sent a NaN circumcentre's dual edge to
+// the oracle: these are the cases where the floating-point circumcentre is not finite.
+TEST(RefineCircumcentre, FiniteWhereTheFloatingPointFormulaFails) {
+  // A regular cell at 1e155: the squared lengths overflow in doubles, not in rationals.
+  const double s = 1e155;
+  const CgalPoint a(0, 0, 0), b(s, 0, 0), c(0, s, 0), d(0, 0, s);
+  ASSERT_FALSE(finitePoint(CGAL::circumcenter(a, b, c, d)));
+  const CgalPoint big = finiteCircumcentre(a, b, c, d, 1);
+  ASSERT_TRUE(finitePoint(big));
+  EXPECT_NEAR(big.x() / s, 0.5, 1e-15);
+  EXPECT_NEAR(big.y() / s, 0.5, 1e-15);
+  EXPECT_NEAR(big.z() / s, 0.5, 1e-15);
+
+  // A cell flat but for a denormal height: its centre is beyond the range of doubles, below
+  // the plane of a, b, c (the corner d lies inside the circle through them, above it).
+  const CgalPoint f(0, 0, 0), g(1, 0, 0), h(0, 1, 0), k(0.3, 0.4, 5e-324);
+  ASSERT_FALSE(finitePoint(CGAL::circumcenter(f, g, h, k)));
+  const CgalPoint far = finiteCircumcentre(f, g, h, k, 40);
+  ASSERT_TRUE(finitePoint(far));
+  EXPECT_NEAR(far.z(), -40, 1e-9);
+  EXPECT_NEAR(std::hypot(far.x(), far.y()), 0, 1e-9);
+
+  // Exactly flat (no sphere): the far point lies on the normal of the plane.
+  const CgalPoint flat = finiteCircumcentre(f, g, h, CgalPoint(0.3, 0.4, 0), 40);
+  ASSERT_TRUE(finitePoint(flat));
+  EXPECT_NEAR(std::abs(flat.z()), 40, 1e-9);
+
+  // Where the formula works, its answer unchanged (the meshes do not depend on the fallback).
+  const CgalPoint e(0.1, 0.2, 0.3);
+  EXPECT_EQ(finiteCircumcentre(g, h, k, e, 40), CGAL::circumcenter(g, h, k, e));
+}
+
+TEST(RefineCircumcentre, NonFinitePointsAreOutsideAndCrossNothing) {
+  const HierarchicalOracle ball = unitBall();
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(ball.bbox().contains({nan, 0, 0}));
+  EXPECT_EQ(ball.label({0, nan, 0}), 0);
+  EXPECT_EQ(ball.label({0, 0, 0}), 1);
+  EXPECT_THROW(ball.crossings({0, 0, 0}, {inf, 0, 0}), Error);
+  EXPECT_THROW(ball.crossings({nan, 0, 0}, {0, 0, 0}), Error);
+  EXPECT_EQ(ball.crossings({0, 0, 0}, {2, 0, 0}).size(), 1u);
+}
 
 TEST(RefineInsertionCore, RefusesAPointThatEncroachesASubsegment) {
   Refiner r;

@@ -32,6 +32,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -258,6 +259,27 @@ TEST(BrepSolid, ProjectionLandsOnTheFace) {
   const BrepSolid::Loaded presse =
       BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
   for (int k : {9, 15}) expectProjectionOnFaces(*presse.solids[k - 1], 200, 10 + k);
+}
+
+// A NaN or infinite point (a rounding accident upstream) is outside and has no projection:
+// it must never reach CGAL's exact comparisons (a GMP conversion of NaN raises SIGFPE) or
+// OpenCASCADE.
+TEST(BrepSolid, NonFinitePointsAreOutsideWithoutProjection) {
+  const BrepSolid::Loaded presse =
+      BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
+  const BrepSolid& nut = *presse.solids[14];
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Point3& p : {Point3{nan, nan, nan}, Point3{nan, 0, 0}, Point3{inf, 0, 0}, Point3{0, -inf, nan}}) {
+    EXPECT_FALSE(nut.inside(p));
+    EXPECT_FALSE(nut.insideExact(p));
+    EXPECT_EQ(nut.project(p).patch, -1);
+    EXPECT_EQ(nut.projectOnPatch(p, 0).patch, -1);
+    EXPECT_EQ(nut.projectOnEdge(p, 0).patch, -1);
+  }
+  // The same solid still answers at its own points.
+  const BoundarySample s = nut.boundarySamples(nut.bbox().diagonal() / 10).front();
+  EXPECT_TRUE(nut.insideExact(s.point - 1e-3 * s.normal));
+  EXPECT_LT(nut.project(s.point + 1e-3 * s.normal).distance, 2e-3);
 }
 
 TEST(BrepSolid, ProjectOnEdgeIsOnTheEdge) {

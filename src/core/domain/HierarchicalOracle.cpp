@@ -89,6 +89,10 @@ bool segmentMeetsBox(const Point3& a, const Point3& d, const Bbox& box, double m
 }  // namespace
 
 std::vector<CompositeCrossing> HierarchicalOracle::crossings(const Point3& a, const Point3& b) const {
+  // A segment from infinity has no crossings anyone could place; its points would reach the
+  // inputs' exact queries as NaN.
+  if (!isFinite(a) || !isFinite(b))
+    throw Error("internal error: a crossing query along a segment with an end that is not a finite point");
   std::vector<CompositeCrossing> result;
   const Point3 d = b - a;
   const double length = norm(d);

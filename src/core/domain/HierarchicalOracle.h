@@ -62,7 +62,7 @@ class HierarchicalOracle {
   // several entries closer than tolerance() along the segment (coincident faces, a pin
   // ending on a plate face) are one place: its entry is the highest-priority entry crossed
   // there that decides the label on one side. An entry whose boundary the segment does not
-  // cross keeps the state of the segment's midpoint.
+  // cross keeps the state of the segment's midpoint. An end that is not finite is an Error.
   std::vector<CompositeCrossing> crossings(const Point3& a, const Point3& b) const;
 
  private:

@@ -291,6 +291,7 @@ bool TriangleSurface::inside(const Point3& p) const {
 }
 
 BoundaryProjection TriangleSurface::project(const Point3& p) const {
+  if (!isFinite(p)) return {};  // CGAL's exact comparisons would convert its NaN (SIGFPE)
   const KPoint q(p[0], p[1], p[2]);
   const auto [closest, face] = impl_->tree->closest_point_and_primitive(q);
   BoundaryProjection r;

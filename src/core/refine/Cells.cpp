@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "refine/CellCriteria.h"
+#include "refine/Circumcentre.h"
 #include "refine/RuleSetTRefiner.h"
 
 namespace oraclemesh::refine {
@@ -25,17 +26,18 @@ void RuleSetTRefiner::evaluateCell(CH c) {
     return;
   }
   const std::array<VH, 4> corners = cornersForRounding(c);
+  const Point3 middle = 0.5 * (oracle_.bbox().min + oracle_.bbox().max);
   const CgalPoint cc =
-      CGAL::circumcenter(corners[0]->point(), corners[1]->point(), corners[2]->point(), corners[3]->point());
+      finiteCircumcentre(corners[0]->point(), corners[1]->point(), corners[2]->point(), corners[3]->point(),
+                         2 * reach_ + distance(toPoint3(corners[0]->point()), middle));
   info.circumcentre = toPoint3(cc);
   info.radius = std::sqrt(CGAL::squared_distance(cc, corners[0]->point()));
   const bool byBarycentre =
       options_.assignment == MaterialAssignment::Barycenter || (hook_ && hook_->labelsByBarycentre(c));
   // Four coplanar corners (on a planar face, or boundary points of one plane elsewhere)
-  // leave the circumcentre at infinity or far off. A cell labelled by its circumcentre is
-  // then outside and never refined; one labelled by its barycentre may be, and such a
-  // point must never be inserted.
-  const Point3 middle = 0.5 * (oracle_.bbox().min + oracle_.bbox().max);
+  // leave the circumcentre far off. A cell labelled by its circumcentre is then outside and
+  // never refined; one labelled by its barycentre may be, and such a point must never be
+  // inserted.
   if (byBarycentre &&
       ((hook_ && hook_->hasUndefinedCircumsphere(c)) || !(distance(info.circumcentre, middle) < reach_)))
     useCircleCentre(c, info);

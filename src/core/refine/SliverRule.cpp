@@ -73,6 +73,7 @@ double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
       if (dt_.is_infinite(a) || dt_.is_infinite(b) || dt_.is_infinite(d)) continue;
       const auto centre = CGAL::circumcenter(a->point(), b->point(), d->point(), zone.point);
       const double r = std::sqrt(CGAL::squared_distance(centre, zone.point));
+      if (!std::isfinite(r)) return -1;  // nearly flat: no circumsphere in doubles, a sliver anyway
       double shortest =
           std::min({CGAL::squared_distance(a->point(), b->point()), CGAL::squared_distance(b->point(), d->point()),
                     CGAL::squared_distance(d->point(), a->point())});

@@ -53,10 +53,9 @@ bool visitTrianglesNear(const ProxyTree& tree, const KPoint& q, double reach, Vi
   return traversal.going;
 }
 
-// The proxy triangle nearest to q among those within `reach`, by the same plain distances:
-// CGAL's closest-point query compares distances with exact predicates, and the closest point
-// of a degenerate tessellation triangle (NaN) turns that into a GMP conversion of NaN, which
-// raises SIGFPE. A NaN distance is never the nearest here.
+// The proxy triangle nearest to q among those within `reach`, by the same plain distances
+// (CGAL's closest-point query compares distances with exact predicates, slower, and a GMP
+// conversion of NaN raises SIGFPE). A NaN distance is never the nearest here.
 template <class SquaredDistance>
 struct NearestTriangle {
   KPoint q;
@@ -86,7 +85,7 @@ bool BrepSolid::Impl::proxyTrusted(const KPoint& q) const {
   return visitTrianglesNear(*proxyTree, q, proxy.exactBand, [&](size_t id) {
     const double band = faceBand[proxyFaceOfTriangle[id]];
     if (squaredDistanceToBox(q, proxyTriangleBox[id]) > band * band * (1 + 1e-9)) return true;
-    // Not "> band * band": a degenerate triangle's NaN distance must not end the traversal.
+    // Not "> band * band": a NaN distance must not end the traversal.
     return !(CGAL::to_double(CGAL::squared_distance(q, proxyTriangle(ProxyMesh::Face_index(id)))) <= band * band);
   });
 }
@@ -144,8 +143,7 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
     if (other == face) return true;
     const double reach = r + crossingBand[other];
     if (squaredDistanceToBox(kp, proxyTriangleBox[id]) > reach * reach * (1 + 1e-9)) return true;
-    // A NaN distance (a degenerate triangle) counts as near: the proof then leaves the answer
-    // to OpenCASCADE.
+    // A NaN distance counts as near: the proof then leaves the answer to OpenCASCADE.
     return std::sqrt(squaredDistance(id)) > reach * (1 + 1e-9);
   });
   if (!clear) return std::nullopt;

@@ -99,6 +99,7 @@ BoundaryProjection BrepSolid::Impl::projectOnFace(const gp_Pnt& p, int face) con
 
 BoundaryProjection BrepSolid::project(const Point3& p) const {
   const Impl& m = *impl_;
+  if (!isFinite(p)) return {};  // CGAL's exact comparisons would convert its NaN (SIGFPE)
   const OpenCascadeWork working(m.name);
   const gp_Pnt q = toGp(p);
   BoundaryProjection best;
@@ -151,7 +152,7 @@ BoundaryProjection BrepSolid::project(const Point3& p) const {
 
 BoundaryProjection BrepSolid::projectOnPatch(const Point3& p, int face) const {
   const Impl& m = *impl_;
-  if (face < 0 || face >= faceCount()) return {};
+  if (face < 0 || face >= faceCount() || !isFinite(p)) return {};
   const OpenCascadeWork working(m.name);
   const gp_Pnt q = toGp(p);
   try {
@@ -183,6 +184,7 @@ BoundaryProjection BrepSolid::projectOnPatch(const Point3& p, int face) const {
 
 BoundaryProjection BrepSolid::projectOnEdge(const Point3& p, int edgeIndex) const {
   const Impl& m = *impl_;
+  if (!isFinite(p)) return {};
   const OpenCascadeWork working(m.name);
   BoundaryProjection result;
   try {
