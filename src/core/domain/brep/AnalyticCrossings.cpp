@@ -34,7 +34,8 @@ void BrepSolid::Impl::findAnalyticSurfaces() {
         s.kind = AnalyticSurface::Kind::Cone;
         s.frame = surface.Cone().Position();
         s.radius = surface.Cone().RefRadius();
-        s.tanAngle = std::tan(surface.Cone().SemiAngle());
+        s.semiAngle = surface.Cone().SemiAngle();
+        s.tanAngle = std::tan(s.semiAngle);
         s.cosAngle = std::cos(surface.Cone().SemiAngle());
         break;
       case GeomAbs_Sphere:

@@ -131,7 +131,7 @@ struct BrepSolid::Impl {
     gp_Ax3 frame;          // the surface's own frame (location applied)
     double radius = 0;     // cylinder, sphere; cone: at the frame's origin; torus: major
     double minorRadius = 0;
-    double tanAngle = 0, cosAngle = 1;  // cone half-angle
+    double semiAngle = 0, tanAngle = 0, cosAngle = 1;  // cone half-angle (radians), its tangent and cosine
     gp_Torus torus;
     // Parameters (u, v) and a normal (not unit) of the point (x, y, z) of the surface, given
     // in the frame; false at a pole or apex (no normal, several parameters).

@@ -39,7 +39,7 @@ std::optional<BrepSolid::Impl::SurfaceFoot> BrepSolid::Impl::analyticFoot(const 
       extrema.Perform(p, gp_Cylinder(surface.frame, surface.radius), tolerance);
       break;
     case AnalyticSurface::Kind::Cone:
-      extrema.Perform(p, gp_Cone(surface.frame, std::atan(surface.tanAngle), surface.radius), tolerance);
+      extrema.Perform(p, gp_Cone(surface.frame, surface.semiAngle, surface.radius), tolerance);
       break;
     case AnalyticSurface::Kind::Sphere:
       extrema.Perform(p, gp_Sphere(surface.frame, surface.radius), tolerance);
