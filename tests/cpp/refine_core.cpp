@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <set>
@@ -13,6 +14,7 @@
 #include "mesh/Quality.h"
 #include "refine/Circumcentre.h"
 #include "refine/RuleSetTRefiner.h"
+#include "sizing/SizeField.h"
 
 namespace oraclemesh::refine {
 namespace {
@@ -94,6 +96,42 @@ TEST(RefineCircumcentre, NonFinitePointsAreOutsideAndCrossNothing) {
   EXPECT_THROW(ball.crossings({0, 0, 0}, {inf, 0, 0}), Error);
   EXPECT_THROW(ball.crossings({nan, 0, 0}, {0, 0, 0}), Error);
   EXPECT_EQ(ball.crossings({0, 0, 0}, {2, 0, 0}).size(), 1u);
+}
+
+// The criteria skip the field queries at circumcentres and ball centres that a lower bound
+// from the corners' values already decides; the bound must never exceed the field.
+TEST(RefineSizeBounds, CornerBoundsStayUnderTheFieldsAndDecideMostCells) {
+  const HierarchicalOracle oracle = unitBall();
+  const FeatureGraph features = diameterSegment();
+  RuleSetTOptions opts = options(0.5);
+  MaterialCriteria::FromField& fromField = opts.criteria.defaults.from_field;
+  fromField.cell_size = fromField.facet_size = fromField.facet_distance = true;
+  opts.criteria.field = std::make_shared<SizeField>(
+      std::vector<SizeSample>{{{0.5, 0, 0}, 0.08, SizeReason::Curvature}, {{-0.3, 0.4, 0}, 0.15, SizeReason::ShortEdge}},
+      0.3, 0.5, 1e-3);
+  opts.criteria.gap_field =
+      std::make_shared<SizeField>(std::vector<SizeSample>{{{0, 0, 0.9}, 0.1, SizeReason::Gap}}, 0.5, 1.0, 1e-3);
+  RunControl control;
+  RuleSetTStatistics stats;
+  RuleSetTRefiner refiner(oracle, features, opts, control, stats);
+  const TetMesh mesh = refiner.run();
+  ASSERT_GT(mesh.tets.size(), 1000u);
+  int64_t labelled = 0, decided = 0;
+  const Delaunay& dt = refiner.triangulation();
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    const VH corners[4] = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+    const Point3 centre = c->info().circumcentre;
+    const CriteriaTable::FieldValues below = refiner.fieldsBelow(centre, corners, 4);
+    const CriteriaTable::FieldValues exact = opts.criteria.fieldsAt(centre);
+    EXPECT_LE(below.field, exact.field);
+    EXPECT_LE(below.gap, exact.gap);
+    if (c->info().label <= 0) continue;
+    ++labelled;
+    decided += c->info().radius <= std::min(opts.criteria.defaults.cell_size, below.field);
+  }
+  std::cout << "[ figures  ] " << decided << " of " << labelled << " cells meet their size by the corner bound\n";
+  EXPECT_GT(decided, labelled / 2);
+  EXPECT_EQ(stats.elements_left_total, 0);
 }
 
 TEST(RefineInsertionCore, RefusesAPointThatEncroachesASubsegment) {

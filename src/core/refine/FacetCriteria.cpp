@@ -55,16 +55,25 @@ double FacetCriteria::bound(const FacetShape& f, const CriteriaTable::FieldValue
   return bound;
 }
 
-FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle) const {
-  FacetVerdict v;
+FacetVerdict FacetCriteria::judge(const FacetShape& f, bool withAngle, const CriteriaTable::FieldValues* below) const {
   if (FacetOnBoundaryCriterion().fails(f)) {
+    FacetVerdict v;
     v.badness = FacetOnBoundaryCriterion::kExcess;
     v.reason = "a vertex not on the boundary";
     return v;
   }
+  // A bound of 0 would read as "criterion off", so only positive bounds may decide.
+  if (below && below->field > 0 && below->gap > 0) {
+    FacetVerdict v = judgeWith(f, withAngle, *below);
+    if (v.badness == 0) return v;
+  }
+  return judgeWith(f, withAngle, table_.fieldsAt(f.ballCentre));
+}
+
+FacetVerdict FacetCriteria::judgeWith(const FacetShape& f, bool withAngle, const CriteriaTable::FieldValues& at) const {
+  FacetVerdict v;
   double worst = 0;
   const double r = FacetSizeCriterion::ballRadius(f);
-  const CriteriaTable::FieldValues at = table_.fieldsAt(f.ballCentre);
   const FacetSizeCriterion size{bound(f, at, &CriteriaTable::facetSize)};
   if (size.fails(r)) {
     worst = r / size.bound;

@@ -81,8 +81,11 @@ class FacetCriteria {
  public:
   explicit FacetCriteria(const CriteriaTable& table) : table_(table) {}
   // withAngle = false leaves facet_angle out (the refiner's terminator asks whether a facet
-  // fails for its angle alone).
-  FacetVerdict judge(const FacetShape& f, bool withAngle = true) const;
+  // fails for its angle alone). `below`, when given, holds lower bounds of the fields at the
+  // ball centre (RuleSetTRefiner::fieldsBelow): a facet that meets its criteria with them is
+  // good without reading the fields there.
+  FacetVerdict judge(const FacetShape& f, bool withAngle = true,
+                     const CriteriaTable::FieldValues* below = nullptr) const;
 
   // The smallest bound over the positive materials on either side (infinity: none): of a
   // constant criterion, or of a size from the fields at the facet's ball centre (CriteriaTable::facetSize).
@@ -91,6 +94,8 @@ class FacetCriteria {
                double (CriteriaTable::*size)(int, const CriteriaTable::FieldValues&) const) const;
 
  private:
+  FacetVerdict judgeWith(const FacetShape& f, bool withAngle, const CriteriaTable::FieldValues& at) const;
+
   const CriteriaTable& table_;
 };
 

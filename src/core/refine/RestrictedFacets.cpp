@@ -140,15 +140,19 @@ double RuleSetTRefiner::facetBadness(CH c, int i, std::string* reason, bool with
   shape.labelB = f.labelB;
   shape.bridge = f.bridge;
   shape.offInterface = f.offInterface;
+  VH corners[3];
   for (int k = 0; k < 3; ++k) {
-    const VH w = c->vertex((i + 1 + k) & 3);
-    if (dt_.is_infinite(w) || w->info().dimension == 3) {
+    corners[k] = c->vertex((i + 1 + k) & 3);
+    if (dt_.is_infinite(corners[k]) || corners[k]->info().dimension == 3) {
       shape.cornersOnBoundary = false;
       break;
     }
-    shape.corners[k] = toPoint3(w->point());
+    shape.corners[k] = toPoint3(corners[k]->point());
   }
-  const FacetVerdict verdict = FacetCriteria(options_.criteria).judge(shape, withAngle);
+  CriteriaTable::FieldValues below;
+  const bool bounded = shape.cornersOnBoundary && options_.criteria.varies();
+  if (bounded) below = fieldsBelow(shape.ballCentre, corners, 3);
+  const FacetVerdict verdict = FacetCriteria(options_.criteria).judge(shape, withAngle, bounded ? &below : nullptr);
   if (reason && verdict.badness > 0) *reason = verdict.reason;
   return verdict.badness;
 }

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <set>
 #include <queue>
@@ -47,6 +48,10 @@ struct VertexInfo {
   // Oracle entry on whose boundary a dimension-2 vertex lies exactly (it was put at one of
   // that entry's crossings or projections), -1 when not known; the snap skips such vertices.
   int boundaryEntry = -1;
+  // Both sizing fields at the vertex, read once per position (rule P moves vertices): the
+  // Lipschitz lower bounds of the cell and facet criteria start from them (fieldsBelow).
+  Point3 fieldsReadAt{std::numeric_limits<double>::quiet_NaN(), 0, 0};
+  CriteriaTable::FieldValues fields;
 };
 
 // What the dual Voronoi edge of a facet says about the boundary. Kept on both cells of the
@@ -178,6 +183,12 @@ class RuleSetTRefiner {
   // parts close together, which it keeps apart (one length for the whole mesh from the field's
   // smallest size let Rule Set T cascade next to every small input angle).
   double terminatorAt(const Point3& p) const;
+  // Lower bounds of both sizing fields at p from the values kept on the given vertices: each
+  // field is Lipschitz with its grading, so at distance d from a vertex it is at least the
+  // vertex's value minus grading * d. A criterion met with these sizes is met with the exact
+  // ones (larger sizes only admit more), which then need no query at p. Infinity for a field
+  // that is not set; 0 where no vertex gives a positive bound.
+  CriteriaTable::FieldValues fieldsBelow(const Point3& p, const VH* vertices, int count) const;
   bool belowTerminator(const Zone& zone) const;     // zone.point closer than it to a vertex
   bool belowTerminator(const Subsegment& s) const;  // half of s shorter than it at s's midpoint
   double length(const Subsegment& s) const;

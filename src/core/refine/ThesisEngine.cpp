@@ -63,7 +63,31 @@ double RuleSetTRefiner::terminatorAt(const Point3& p) const {
   return std::min(capsTerminator_, terminatorPerGapSize_ * options_.criteria.gap_field->at(p));
 }
 
+CriteriaTable::FieldValues RuleSetTRefiner::fieldsBelow(const Point3& p, const VH* vertices, int count) const {
+  const CriteriaTable& criteria = options_.criteria;
+  CriteriaTable::FieldValues below;
+  if (criteria.field) below.field = 0;
+  if (criteria.gap_field) below.gap = 0;
+  if (!criteria.varies()) return below;
+  for (int k = 0; k < count; ++k) {
+    VertexInfo& info = vertices[k]->info();
+    const Point3 at = toPoint3(vertices[k]->point());
+    if (!(info.fieldsReadAt == at)) {
+      info.fields = criteria.fieldsAt(at);
+      info.fieldsReadAt = at;
+    }
+    const double d = distance(p, at);
+    // The relative margin covers the rounding of both sides of the Lipschitz inequality.
+    if (criteria.field)
+      below.field = std::max(below.field, (info.fields.field - criteria.field->grading() * d) * (1 - 1e-9));
+    if (criteria.gap_field)
+      below.gap = std::max(below.gap, (info.fields.gap - criteria.gap_field->grading() * d) * (1 - 1e-9));
+  }
+  return below;
+}
+
 bool RuleSetTRefiner::belowTerminator(const Zone& zone) const {
+  if (!(zone.insertionRadius < capsTerminator_)) return false;  // the length is at most that: no query
   return zone.insertionRadius < terminatorAt(toPoint3(zone.point));
 }
 
