@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -187,6 +188,24 @@ void expectCrossingsAgreeWithOcct(const BrepSolid& solid, int count, unsigned se
             << " segments; crossings() " << count / oursSeconds << " segments/s, BRepIntCurveSurface_Inter "
             << count / referenceSeconds << " segments/s; " << contradictions
             << " self-contradicting reference hits left out\n";
+}
+
+// A NaN or infinite point is outside, crosses nothing and has no projection: the surface's
+// CGAL queries compare exactly, and a GMP conversion of NaN raises SIGFPE.
+TEST(Crossings, TriangleSurfaceIgnoresNonFinitePoints) {
+  const auto path = std::filesystem::temp_directory_path() / "oraclemesh_two_cubes_nan.off";
+  std::ofstream(path) << twoCubesOff();
+  const auto cubes = TriangleSurface::fromFile(path.string(), "two cubes");
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Point3& p : {Point3{nan, 0.3, 0.6}, Point3{inf, 0.3, 0.6}, Point3{0.5, -inf, nan}}) {
+    EXPECT_FALSE(cubes->inside(p));
+    EXPECT_EQ(cubes->project(p).patch, -1);
+    EXPECT_TRUE(cubes->crossings({-1, 0.3, 0.6}, p).empty());
+    EXPECT_TRUE(cubes->crossings(p, {5, 0.3, 0.6}).empty());
+  }
+  // Finite points as before.
+  EXPECT_TRUE(cubes->inside({0.5, 0.3, 0.6}));
+  EXPECT_EQ(cubes->crossings({-1, 0.3, 0.6}, {5, 0.3, 0.6}).size(), 4u);
 }
 
 TEST(Crossings, BrepPrimitivesAgreeWithOcct) {

@@ -287,6 +287,7 @@ void TriangleSurface::outwardTriangles(std::vector<Point3>& points,
 }
 
 bool TriangleSurface::inside(const Point3& p) const {
+  if (!isFinite(p)) return false;  // CGAL's exact predicates would convert its NaN (SIGFPE)
   return (*impl_->side)(KPoint(p[0], p[1], p[2])) != CGAL::ON_UNBOUNDED_SIDE;
 }
 
@@ -335,6 +336,7 @@ namespace oraclemesh {
 std::vector<BoundaryCrossing> TriangleSurface::crossings(const Point3& a, const Point3& b) const {
   const Impl& m = *impl_;
   std::vector<BoundaryCrossing> result;
+  if (!isFinite(a) || !isFinite(b)) return result;
   const Point3 d = b - a;
   const double dd = dot(d, d);
   if (dd == 0.0) return result;
