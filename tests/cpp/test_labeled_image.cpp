@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 
 #include "domain/LabeledImage.h"
@@ -184,6 +185,19 @@ TEST(ImageLabelRegion, VolumeIsTheVoxelCountAndApproximatesTheBall) {
   EXPECT_NEAR(regions[0].first->volume(), shell + cube, 0.02 * shell);
   EXPECT_NEAR(regions[1].first->volume(), 4.0 / 3.0 * kPi * std::pow(ball.innerRadius, 3),
               0.06 * 4.0 / 3.0 * kPi * std::pow(ball.innerRadius, 3));
+}
+
+TEST(ImageLabelRegion, NonFinitePointsAreOutsideAndCrossNothing) {
+  BallImage ball;
+  const ImageLabelRegion outer(ball.image, 1, "scan label 1");
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Point3& p : {Point3{nan, 0, 0}, Point3{0, inf, 0}, Point3{-inf, nan, 1}}) {
+    EXPECT_FALSE(outer.inside(p));
+    EXPECT_EQ(outer.project(p).patch, -1);
+    EXPECT_TRUE(outer.crossings(ball.centre, p).empty());
+  }
+  // A finite segment from the centre out through the shell still crosses it.
+  EXPECT_FALSE(outer.crossings(ball.centre, ball.centre + Point3{3 * ball.radius, 0, 0}).empty());
 }
 
 TEST(ImageLabelRegion, InsideAndProjectAgreeWithTheBall) {

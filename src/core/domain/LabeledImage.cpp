@@ -212,7 +212,10 @@ ImageLabelRegion::ImageLabelRegion(std::shared_ptr<const LabeledImage> image, in
   faces_->tree.build();  // built now: queries must be const and thread-safe
 }
 
-bool ImageLabelRegion::inside(const Point3& p) const { return image_->margin(label_, p).value > 0; }
+bool ImageLabelRegion::inside(const Point3& p) const {
+  // A NaN coordinate would become an out-of-range voxel index (the conversion is undefined).
+  return isFinite(p) && image_->margin(label_, p).value > 0;
+}
 
 double ImageLabelRegion::volume() const {
   auto it = image_->labelCounts().find(label_);
@@ -220,6 +223,7 @@ double ImageLabelRegion::volume() const {
 }
 
 BoundaryProjection ImageLabelRegion::project(const Point3& p) const {
+  if (!isFinite(p)) return {};
   const Point3& s = image_->spacing();
   const double voxel = std::min({s[0], s[1], s[2]});
   BoundaryProjection best;
@@ -295,6 +299,7 @@ std::vector<BoundarySample> ImageLabelRegion::boundarySamples(double spacing) co
 
 std::vector<BoundaryCrossing> ImageLabelRegion::crossings(const Point3& a, const Point3& b) const {
   std::vector<BoundaryCrossing> result;
+  if (!isFinite(a) || !isFinite(b)) return result;
   const double length = distance(a, b);
   if (length == 0.0) return result;
   const Point3& s = image_->spacing();
