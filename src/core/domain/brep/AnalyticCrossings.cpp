@@ -36,7 +36,7 @@ void BrepSolid::Impl::findAnalyticSurfaces() {
         s.radius = surface.Cone().RefRadius();
         s.semiAngle = surface.Cone().SemiAngle();
         s.tanAngle = std::tan(s.semiAngle);
-        s.cosAngle = std::cos(surface.Cone().SemiAngle());
+        s.cosAngle = std::cos(s.semiAngle);
         break;
       case GeomAbs_Sphere:
         s.kind = AnalyticSurface::Kind::Sphere;
