@@ -109,7 +109,8 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
   std::cout << "[ figures  ] part.step stage: min dihedral " << s.min_dihedral_before << " -> " << s.min_dihedral_after
             << ", under 5/10/15 deg " << s.before.under5 << "/" << s.before.under10 << "/" << s.before.under15 << " -> "
             << s.after.under5 << "/" << s.after.under10 << "/" << s.after.under15 << ", 3-2 " << s.flips32 << ", 4-4 "
-            << s.flips44 << ", 5..7 " << s.edge_removals << ", 2-3 " << s.flips23 << ", smoothed "
+            << s.flips44 << ", 5..7 " << s.edge_removals << ", 2-3 " << s.flips23 << ", multi-face "
+            << s.multi_face_removals << ", smoothed "
             << s.smoothed_interior << "/" << s.smoothed_surface << "/" << s.smoothed_feature << ", collapses "
             << s.edge_collapses << ", " << s.seconds << " s\n";
   EXPECT_GE(s.min_dihedral_after, s.min_dihedral_before);

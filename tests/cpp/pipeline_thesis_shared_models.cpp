@@ -213,7 +213,10 @@ TEST(ThesisSharedModels, KurbelwelleArcsCloseToEachOtherAreNotSplitAtAFalseCross
 // screw.step at the default fineness: its 45-degree chamfer came out of the refinement with
 // three flat tets (down to 1.2e-13 degrees) each with three faces on the boundary, the surface
 // folded over itself there; flip, smoothing and the flat caps could not take them. The
-// improvement stage now takes such folds out (their fourth face becomes the boundary).
+// improvement stage now takes such folds out (their fourth face becomes the boundary), and
+// reaches issue 15's 15 degrees everywhere (the screw's smallest input angle is 45 degrees):
+// 12.0 degrees while new tets could be no larger than the ones they replaced, 20.0 with
+// multi-face removal and new tets within the job's cell size and radius-edge ratio.
 TEST(ThesisSharedModels, ScrewChamferFoldsGoAtTheDefaultFineness) {
   const SharedModelRun run = meshSharedModel("screw.step", "screw", {{"criteria", {{"fineness", "moderate"}}}});
   const TetMesh& m = run.result.mesh;
@@ -221,7 +224,7 @@ TEST(ThesisSharedModels, ScrewChamferFoldsGoAtTheDefaultFineness) {
   expectConforming(m);
   EXPECT_EQ(test::featureEdgesNotTetEdges(m), 0);
   EXPECT_GE(improve.at("flat_caps").at("folds_removed").get<int>(), 1);
-  EXPECT_GT(run.result.report.at("quality").at("min_dihedral_deg").get<double>(), 10);
+  EXPECT_GT(run.result.report.at("quality").at("min_dihedral_deg").get<double>(), 15);
   // Taking the folds out moved no volume worth the name; the stage as a whole, its bound.
   EXPECT_LE(improve.at("flat_caps").at("largest_volume_change").get<double>(), 1e-9);
   EXPECT_LE(improve.at("curved_moves_largest_volume_share").get<double>(), 1e-5 * (1 + 1e-9));
@@ -230,8 +233,10 @@ TEST(ThesisSharedModels, ScrewChamferFoldsGoAtTheDefaultFineness) {
 
 // Kurbelwelle.stp at the default fineness: its worst tets after flips and smoothing had a short
 // edge whose ends could not move apart (0.026 degrees, 12 / 26 / 64 tets under 5 / 10 / 15);
-// edge collapse takes such an end out (0.82 degrees, 4 / 13 / 27). What it keeps: every feature
-// edge a mesh edge, every boundary node on the part, the volume within the curved-move bound.
+// edge collapse takes such an end out (0.82 degrees, 4 / 13 / 27), multi-face removal and new
+// tets within the job's criteria rather than the old tets' sizes lift the rest (3.7 degrees,
+// 1 / 6 / 9; the one under 5 at a 42-degree input angle). What it keeps: every feature edge a
+// mesh edge, every boundary node on the part, the volume within the curved-move bound.
 TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   const SharedModelRun run =
       meshSharedModel("Kurbelwelle.stp", "Kurbelwelle", {{"criteria", {{"fineness", "moderate"}}}});
@@ -240,8 +245,8 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   expectConforming(m);
   EXPECT_EQ(test::featureEdgesNotTetEdges(m), 0);
   EXPECT_GE(improve.at("operations").at("edge_collapses").get<int>(), 10);
-  EXPECT_GT(improve.at("min_dihedral_after_deg").get<double>(), 0.5);
-  EXPECT_LE(improve.at("tets_under_5_deg").get<int>(), 6);
+  EXPECT_GT(improve.at("min_dihedral_after_deg").get<double>(), 3);
+  EXPECT_LE(improve.at("tets_under_5_deg").get<int>(), 2);
   // The stage moves the volume by at most its two curved bounds, for moves and collapses and for
   // curved caps (tet4 chords are 0.7 % short of the part with or without it).
   EXPECT_LE(improve.at("curved_moves_largest_volume_share").get<double>(), 1e-5 * (1 + 1e-9));
@@ -262,8 +267,9 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
 // curve angles) leaves the first vertices of the two curves a hundredth of a millimetre apart;
 // no operation may join them (each is on its own curve), so the tets there stay poor. The
 // stage takes out the rest: every tet under 15 degrees is within an edge size of such an
-// angle, and there are fewer than 70 under 10 (91 with collapses only along the tet's own
-// edges and the largest sizes there were; 136 without collapses).
+// angle, and there are fewer than 40 under 10 (27; 60 while new tets could be no larger than
+// the ones they replaced, 91 with collapses only along the tet's own edges, 136 without
+// collapses).
 TEST(ThesisSharedModels, PartStepPoorTetsAreAtItsSmallAnglesAtTheDefaultFineness) {
   const SharedModelRun run = meshSharedModel("part.step", "part", {{"criteria", {{"fineness", "moderate"}}}});
   const json& improve = run.result.report.at("improve");
@@ -271,7 +277,7 @@ TEST(ThesisSharedModels, PartStepPoorTetsAreAtItsSmallAnglesAtTheDefaultFineness
   EXPECT_EQ(test::featureEdgesNotTetEdges(run.result.mesh), 0);
   EXPECT_GT(improve.at("tets_under_15_deg").get<int>(), 0);
   EXPECT_EQ(improve.at("tets_under_15_deg_near_small_input_angle"), improve.at("tets_under_15_deg"));
-  EXPECT_LT(improve.at("tets_under_10_deg").get<int>(), 70);
+  EXPECT_LT(improve.at("tets_under_10_deg").get<int>(), 40);
   for (const json& a : run.result.report.at("small_input_angles")) EXPECT_LT(a.at("angle_deg").get<double>(), 0.2);
   expectBoundaryNodesOnTheCad(run, "part.step");
 }

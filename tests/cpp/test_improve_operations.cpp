@@ -2,8 +2,8 @@
 // on the unit circle in z = 0 and two apexes d = (0,0,h), e = (0,0,-h). At h = 0.2 the two
 // tets abcd, abce are flat (21.8 degrees) and the three around de are better (43.6); at h = 1
 // the three around de (39.2) are worse than the two (63.4). Edge removal: five or six points on
-// the unit circle around the axis de. Smoothing and edge collapse: a fan over a planar
-// boundary patch.
+// the unit circle around the axis de. Multi-face removal: a pentagon fanned between two
+// apexes. Smoothing and edge collapse: a fan over a planar boundary patch.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -212,8 +212,8 @@ TEST(ImproveFlips, FlipThatWouldInvertIsRefused) {
   orientAll(m);
   const TetMesh before = m;
   ImprovementMesh work(m);
-  EXPECT_FALSE(removeFace(work, A, B, C));
-  EXPECT_FALSE(removeFace(work, A, C, B));
+  EXPECT_EQ(removeFaces(work, A, B, C), 0);
+  EXPECT_EQ(removeFaces(work, A, C, B), 0);
   const ImprovementStats s = improve(m);
   EXPECT_EQ(s.flips23, 0);
   EXPECT_EQ(m.tets, before.tets);
@@ -262,6 +262,81 @@ TEST(ImproveEdgeRemoval, RingOfMixedMaterialsIsKept) {
   m.tet_materials[2] = 2;
   ImprovementMesh work(m);
   EXPECT_EQ(removeEdge(work, 0, 1), 0);
+}
+
+// The regular pentagon r_0..r_4 (vertices 2..6, unit circle, z = 0) fanned from r_0, each of
+// its three triangles joined to d = (0, 0, h) and to e = (0, 0, -h) (vertices 0 and 1): the
+// triangles are sandwiched between d and e, and removing all three gives the five tets around
+// de. At h = 0.5 the six tets reach 31.7 degrees, the five 63.4; the middle face alone gives
+// 36.0 (its tets over the chords r_0 r_2 and r_3 r_0). At h = 1.2 the five (60.8 against
+// 37.9) have a circumradius of 1.23 and a radius-edge ratio of 1.05 against 1.02 and 0.87.
+TetMesh fannedPentagon(double h) {
+  TetMesh m;
+  m.points = {{0, 0, h}, {0, 0, -h}};
+  for (int i = 0; i < 5; ++i) m.points.push_back({std::cos(2 * M_PI * i / 5), std::sin(2 * M_PI * i / 5), 0});
+  for (int64_t k = 3; k <= 5; ++k)
+    for (int64_t apex : {0, 1}) {
+      m.tets.push_back({apex, 2, k, k + 1});
+      m.tet_materials.push_back(1);
+    }
+  for (int64_t i = 0; i < 5; ++i)
+    for (int64_t apex : {0, 1}) m.boundary.push_back({{apex, 2 + i, 2 + (i + 1) % 5}, 1, 0});
+  orientAll(m);
+  m.vertex_dimension.assign(m.points.size(), 2);
+  m.vertex_curve.assign(m.points.size(), -1);
+  return m;
+}
+
+bool everyTetHas(const TetMesh& m, int64_t u, int64_t v) {
+  return std::all_of(m.tets.begin(), m.tets.end(),
+                     [&](const TetCorners& t) { return std::count(t.begin(), t.end(), u) && std::count(t.begin(), t.end(), v); });
+}
+
+TEST(ImproveFaceRemoval, SandwichedFacesBecomeTheRingAroundTheApexes) {
+  const TetMesh before = fannedPentagon(0.5);
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  EXPECT_NEAR(minDihedralOf(m), 31.7, 0.05);
+  ASSERT_EQ(removeFaces(work, 2, 4, 5), 3);
+  work.writeBack(m);
+  EXPECT_EQ(m.tets.size(), 5u);
+  EXPECT_TRUE(everyTetHas(m, 0, 1));
+  EXPECT_NEAR(minDihedralOf(m), 63.4, 0.05);
+  expectValid(before, m);
+}
+
+TEST(ImproveFaceRemoval, FeatureEdgeBoundsTheDisk) {
+  TetMesh before = fannedPentagon(0.5);
+  before.feature_edges = {{2, 4}};  // the chord r_0 r_2 between the first two triangles
+  before.feature_edge_curves = {0};
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  SizeCriteria sizes;  // the tet over the chord kept is bigger (circumradius 1.31 against 1.25)
+  sizes.cell = [](int, const Point3&) { return 2.0; };
+  sizes.cell_ratio = [](int) { return 2.0; };
+  EXPECT_EQ(removeFaces(work, 2, 4, 5, sizes), 2);  // the middle face and the one beyond r_3 r_0
+  work.writeBack(m);
+  EXPECT_EQ(m.tets.size(), 6u);
+  EXPECT_TRUE(hasEdge(m, 2, 4));
+  EXPECT_NEAR(minDihedralOf(m), 31.7, 0.05);  // the two tets beyond the chord stay
+  expectValid(before, m);
+}
+
+// New tets bigger than every tet they replace are admitted only within the job's criteria.
+TEST(ImproveSizeBound, LargerTetsOnlyWithinTheCellSizeAndRatio) {
+  auto removed = [](double cellSize, double ratio) {
+    TetMesh m = fannedPentagon(1.2);
+    ImprovementMesh work(m);
+    SizeCriteria sizes;
+    if (cellSize > 0) sizes.cell = [cellSize](int, const Point3&) { return cellSize; };
+    if (ratio > 0) sizes.cell_ratio = [ratio](int) { return ratio; };
+    return removeFaces(work, 2, 4, 5, sizes);
+  };
+  EXPECT_EQ(removed(0, 0), 0);    // no criteria: no tet bigger than the old ones
+  EXPECT_EQ(removed(2, 2), 3);    // both criteria hold
+  EXPECT_EQ(removed(1.1, 2), 0);  // circumradius 1.23 over the cell size
+  EXPECT_EQ(removed(2, 1.0), 0);  // ratio 1.05 over its bound
+  EXPECT_EQ(removed(2, 0), 0);    // no ratio bound given
 }
 
 // A pyramid over the quadrilateral `base` (counter-clockwise in z = 0) with its apex at

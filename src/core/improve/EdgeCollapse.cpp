@@ -149,6 +149,7 @@ bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteri
   if (!staysInPlace(mesh, v, u, sizes)) return false;
   const auto& p = mesh.points();
   SizeBound bound;
+  bound.criteria = &sizes;
   double before = std::numeric_limits<double>::infinity();
   for (int64_t t : mesh.tetsOf(v)) {
     const TetCorners& c = mesh.tet(t);
@@ -172,11 +173,7 @@ bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteri
       if (x == v) x = u;
     volumeChange[mesh.material(t)] += tetVolume(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
     if (exactOrientation(p[c[0]], p[c[1]], p[c[2]], p[c[3]]) <= 0) return false;
-    // Within the worst tet at v, or a circumradius within the job's cell size.
-    const TetSize size = tetSize(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
-    const double cellSize = sizes.cell ? sizes.cell(mesh.material(t), 0.25 * (p[c[0]] + p[c[1]] + p[c[2]] + p[c[3]])) : 0;
-    if (size.radius_edge_ratio > bound.radius_edge_ratio || size.circumradius > std::max(bound.circumradius, cellSize))
-      return false;
+    if (!bound.admits(mesh.material(t), p[c[0]], p[c[1]], p[c[2]], p[c[3]])) return false;
     after = std::min(after, smallestDihedral(p, c));
     if (!(after > before)) return false;
   }

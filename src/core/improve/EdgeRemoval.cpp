@@ -37,6 +37,7 @@ struct RingTriangulation {
   int64_t a, b;
   const std::vector<int64_t>& ring;
   const SizeBound& bound;
+  int material;
   int n;
   // best[i][j]: worst quality of the best triangulation of the sub-polygon r_i..r_j; apex[i][j]
   // the ring index k of the triangle (i, k, j) that achieves it.
@@ -53,7 +54,7 @@ struct RingTriangulation {
     double q = std::numeric_limits<double>::infinity();
     for (const TetCorners& t : tetsOver(i, k, j)) {
       if (exactOrientation(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) <= 0) return kWorst;
-      if (!bound.admits(tetSize(p[t[0]], p[t[1]], p[t[2]], p[t[3]]))) return kWorst;
+      if (!bound.admits(material, p[t[0]], p[t[1]], p[t[2]], p[t[3]])) return kWorst;
       q = std::min(q, smallestDihedral(p, t));
     }
     return q;
@@ -91,12 +92,12 @@ struct RingTriangulation {
 }  // namespace
 
 double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
-                           const SizeBound& bound, std::vector<TetCorners>& made) {
+                           const SizeBound& bound, int material, std::vector<TetCorners>& made) {
   const int n = static_cast<int>(tets.size());
   if (n < 3 || n > kMaxEdgeRemovalRing) return kWorst;
   const std::vector<int64_t> ring = ringAround(mesh, a, b, tets);
   if (static_cast<int>(ring.size()) != n) return kWorst;
-  RingTriangulation triangulation{mesh, a, b, ring, bound, n, {}, {}};
+  RingTriangulation triangulation{mesh, a, b, ring, bound, material, n, {}, {}};
   const double worst = triangulation.solve();
   if (worst == kWorst) return kWorst;
   std::vector<std::array<int64_t, 2>> diagonals;
@@ -108,7 +109,7 @@ double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, co
   return worst;
 }
 
-int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
+int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCriteria& sizes) {
   if (mesh.isProtectedEdge(a, b)) return 0;
   const std::vector<int64_t> tets = mesh.tetsAroundEdge(a, b);
   const int n = static_cast<int>(tets.size());
@@ -116,6 +117,7 @@ int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
   const int material = mesh.material(tets.front());
   double before = std::numeric_limits<double>::infinity();
   SizeBound bound;
+  bound.criteria = &sizes;
   const auto& p = mesh.points();
   for (int64_t t : tets) {
     if (mesh.material(t) != material) return 0;
@@ -126,7 +128,7 @@ int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b) {
       if (v != a && v != b && mesh.isProtectedFace(a, b, v)) return 0;
   }
   std::vector<TetCorners> made;
-  if (!(triangulateEdgeRing(mesh, a, b, tets, bound, made) > before)) return 0;
+  if (!(triangulateEdgeRing(mesh, a, b, tets, bound, material, made) > before)) return 0;
   mesh.replace(tets, made, material);
   return n;
 }

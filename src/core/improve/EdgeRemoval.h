@@ -9,22 +9,24 @@
 #include <vector>
 
 #include "improve/ImprovementMesh.h"
+#include "improve/SizeCriteria.h"
 
 namespace oraclemesh {
 
 inline constexpr int kMaxEdgeRemovalRing = 7;
 
 // Removes edge ab when that raises the smallest dihedral angle of the tets around it, every
-// new tet is positively oriented (exact predicate) and within the size of the worst old one.
-// Never removes a feature edge, an edge on a boundary or interface triangle, or an edge whose
-// tets are of several materials. Returns the ring size when removed, else 0.
-int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b);
+// new tet is positively oriented (exact predicate) and within the size of the worst old one or
+// the job's `sizes` (SizeBound). Never removes a feature edge, an edge on a boundary or
+// interface triangle, or an edge whose tets are of several materials. Returns the ring size
+// when removed, else 0.
+int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCriteria& sizes = SizeCriteria{});
 
 // The best triangulation of the closed ring of `tets` around ab (3..7 of them, whatever their
-// materials and faces): the tets it makes, every one positive and admitted by `bound`, no
-// ring diagonal already a mesh edge. Returns the smallest dihedral angle of those tets, or
-// -infinity (and `made` unspecified) when there is no such triangulation.
+// materials and faces): the tets it makes, every one positive and admitted by `bound` as tets
+// of `material`, no ring diagonal already a mesh edge. Returns the smallest dihedral angle of
+// those tets, or -infinity (and `made` unspecified) when there is no such triangulation.
 double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
-                           const SizeBound& bound, std::vector<TetCorners>& made);
+                           const SizeBound& bound, int material, std::vector<TetCorners>& made);
 
 }  // namespace oraclemesh

@@ -293,7 +293,7 @@ class CapRemoval {
     bound.circumradius *= 1 + kSizeSlack;
     bound.radius_edge_ratio *= 1 + kSizeSlack;
     std::vector<TetCorners> made;
-    if (!(triangulateEdgeRing(work_, cap.a, cap.b, ring, bound, made) > work_.quality(t))) return false;
+    if (!(triangulateEdgeRing(work_, cap.a, cap.b, ring, bound, other, made) > work_.quality(t))) return false;
     const double volume = volumeOf(work_.tet(t));
     if (!withinVolumeBound(cap.curved, own, volume) || !withinVolumeBound(cap.curved, other, volume)) return false;
     if (!apply_) return true;

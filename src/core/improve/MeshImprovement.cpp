@@ -84,7 +84,7 @@ class Driver {
   }
 
   // Edge removal on the tet's edges, those at its most extreme dihedral angles first (a
-  // sliver's small angles and a cap's large one), else a 2-3 flip on one of its faces.
+  // sliver's small angles and a cap's large one), else face removal from one of its faces.
   int64_t topologicalSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
@@ -101,17 +101,18 @@ class Driver {
       });
       bool done = false;
       for (int e : edges) {
-        const int ring = removeEdge(mesh_, c[kEdgeCorners[e][0]], c[kEdgeCorners[e][1]]);
+        const int ring = removeEdge(mesh_, c[kEdgeCorners[e][0]], c[kEdgeCorners[e][1]], options_.sizes);
         if (ring == 0) continue;
         (ring == 3 ? stats_.flips32 : ring == 4 ? stats_.flips44 : stats_.edge_removals)++;
         done = true;
         break;
       }
-      for (int f = 0; f < 4 && !done; ++f)
-        if (removeFace(mesh_, c[(f + 1) % 4], c[(f + 2) % 4], c[(f + 3) % 4])) {
-          ++stats_.flips23;
-          done = true;
-        }
+      for (int f = 0; f < 4 && !done; ++f) {
+        const int faces = removeFaces(mesh_, c[(f + 1) % 4], c[(f + 2) % 4], c[(f + 3) % 4], options_.sizes);
+        if (faces == 0) continue;
+        (faces == 1 ? stats_.flips23 : stats_.multi_face_removals)++;
+        done = true;
+      }
       if (!done && options_.edge_collapse) done = collapseShortestEdge(c);
       changes += done;
     }

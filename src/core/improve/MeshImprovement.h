@@ -1,13 +1,14 @@
 #pragma once
-// The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, 2-3 flips,
-// edge collapse) and vertex smoothing, worst tet first, repeated in passes. Every operation raises the
-// smallest dihedral angle of the tets it replaces or moves, so the mesh is the best so far
-// after each one and can be stopped anywhere. It runs on the final linear mesh of either
-// engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
+// The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, multi-face
+// removal incl. 2-3 flips, edge collapse) and vertex smoothing, worst tet first, repeated in
+// passes. Every operation raises the smallest dihedral angle of the tets it replaces or moves,
+// so the mesh is the best so far after each one and can be stopped anywhere. It runs on the
+// final linear mesh of either engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
 // boundary and interface triangle, every feature edge, each tet's material, per-material
 // volumes (exactly where vertices move inside planar patches and along straight curves; within
 // `curved_volume_bound` where they move on curved faces and curves), and the size criteria (no
-// new tet bigger in circumradius or radius-edge ratio than the worst it replaces).
+// new tet bigger in circumradius or radius-edge ratio than the worst it replaces, unless within
+// the job's criteria of its material: SizeBound).
 #include <cstdint>
 #include <vector>
 
@@ -38,8 +39,8 @@ struct ImprovementOptions {
   double curved_cap_flatness = 0.05;
   // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet.
   bool edge_collapse = true;
-  // The job's edge, facet and cell sizes, which collapses and moves keep where they lengthen a
-  // feature edge or enlarge a boundary triangle or a tet (SizeCriteria.h).
+  // The job's edge, facet and cell sizes and ratio bound, which every operation keeps where it
+  // lengthens a feature edge or enlarges a boundary triangle or a tet (SizeCriteria.h).
   SizeCriteria sizes;
 };
 
@@ -51,7 +52,8 @@ struct ImprovementStats {
   double min_dihedral_before = 0;  // degrees
   double min_dihedral_after = 0;
   PoorTetCounts before, after;
-  int64_t flips23 = 0;
+  int64_t flips23 = 0;             // face removal of one face
+  int64_t multi_face_removals = 0;  // of several
   int64_t flips32 = 0;           // edge removal with a ring of 3
   int64_t flips44 = 0;           // ring of 4
   int64_t edge_removals = 0;     // rings of 5 to 7

@@ -30,7 +30,7 @@ struct Star {
     for (int64_t t : tets) {
       const TetCorners& c = mesh.tet(t);
       if (exactOrientation(p[c[0]], p[c[1]], p[c[2]], p[c[3]]) <= 0 ||
-          (bound && !bound->admits(tetSize(p[c[0]], p[c[1]], p[c[2]], p[c[3]])))) {
+          (bound && !bound->admits(mesh.material(t), p[c[0]], p[c[1]], p[c[2]], p[c[3]]))) {
         worst = -1;
         break;
       }
@@ -158,6 +158,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v, const SizeCriteria& sizes) {
   if (star.tets.empty()) return false;
   auto& p = mesh.points();
   SizeBound bound;
+  bound.criteria = &sizes;
   double shortest = std::numeric_limits<double>::infinity();
   for (int64_t t : star.tets) {
     const TetCorners& c = mesh.tet(t);

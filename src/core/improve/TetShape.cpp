@@ -66,9 +66,4 @@ double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c) {
                    : std::numeric_limits<double>::infinity();
 }
 
-void SizeBound::include(const TetSize& s) {
-  circumradius = std::max(circumradius, s.circumradius);
-  radius_edge_ratio = std::max(radius_edge_ratio, s.radius_edge_ratio);
-}
-
 }  // namespace oraclemesh

@@ -1,8 +1,7 @@
 #pragma once
 // The measures every improvement operation judges a tetrahedron by: its exact orientation,
 // its smallest dihedral angle (the quality the stage raises) and its size (circumradius and
-// radius-edge ratio, which an operation may not make worse than the worst tet it replaces, so
-// cells that met the engine's size criteria still meet them).
+// radius-edge ratio, which SizeCriteria.h's SizeBound limits).
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -29,15 +28,5 @@ struct TetSize {
 };
 
 TetSize tetSize(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
-
-// The largest circumradius and ratio of a set of tets: the bound new tets must stay within.
-struct SizeBound {
-  double circumradius = 0;
-  double radius_edge_ratio = 0;
-  void include(const TetSize& s);
-  bool admits(const TetSize& s) const {
-    return s.circumradius <= circumradius && s.radius_edge_ratio <= radius_edge_ratio;
-  }
-};
 
 }  // namespace oraclemesh

@@ -105,6 +105,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     return criteria.facetSizeAt(material, p);
   };
   improvement.sizes.cell = [&criteria](int material, const Point3& p) { return criteria.cellSizeAt(material, p); };
+  improvement.sizes.cell_ratio = [&criteria](int material) { return criteria.of(material).cell_radius_edge_ratio; };
   report.improve.enabled = job.improve;
   if (job.improve) {
     std::vector<int64_t> previousIndex;
