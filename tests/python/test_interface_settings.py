@@ -85,6 +85,20 @@ def test_contact_step_warnings():
     assert ccx_interfaces.step_warnings(tied, frequency) == []
 
 
+def test_contact_step_may_cut_back_below_calculixs_default_minimum():
+    # FreeCAD's static step at its defaults: *STATIC (with or without a solver) and an empty
+    # data line, CalculiX's times (smallest increment 1e-5 of the step).
+    for static in ("*STATIC", "*STATIC, SOLVER=SPOOLES"):
+        step = "*STEP\n%s\n\n\n*BOUNDARY\nFixed,1\n" % static
+        assert ccx_interfaces.step_with_contact_increments(step, True) == (
+            "*STEP\n%s\n1.0,1.0,1e-9,1.0\n\n*BOUNDARY\nFixed,1\n" % static)
+        assert ccx_interfaces.step_with_contact_increments(step, False) == step
+    # Times the user set, and other analyses, are left as they are.
+    for step in ("*STEP\n*STATIC\n0.1,2.0\n\n", "*STEP\n*STATIC, DIRECT\n0.5,1.0\n\n",
+                 "*STEP\n*COUPLED TEMPERATURE-DISPLACEMENT\n1.0,1.0\n\n", "*STEP\n*FREQUENCY\n10\n\n"):
+        assert ccx_interfaces.step_with_contact_increments(step, True) == step
+
+
 def test_oriented_key_tells_the_two_sides_apart():
     assert ccx_interfaces.oriented_key(3, 1, 2) == ccx_interfaces.oriented_key(1, 2, 3)
     assert ccx_interfaces.oriented_key(2, 3, 1) == (1, 2, 3)

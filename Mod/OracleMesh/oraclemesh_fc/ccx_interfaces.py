@@ -26,10 +26,21 @@ face element's corners are ordered outward from the tet it was taken from
 (handoff.surface_face_nodes), the reverse, so an oriented corner triple finds its tet even
 where both sides of an interface share the nodes.
 
-Contact makes CalculiX's static step nonlinear (increments, contact iterations): FreeCAD's
-default step (*STATIC, automatic incrementation) serves; user-defined increments (DIRECT) or a
-non-static analysis get a warning in the report view.
+Contact makes CalculiX's static step nonlinear (increments, contact iterations). FreeCAD's
+default step (*STATIC with no data line, automatic incrementation) leaves the times to
+CalculiX: the whole load in the first increment, and a smallest increment of 1e-5 of the step.
+With contact CalculiX can close such a step with a remainder of 1e-6; where the contact status
+still changes between iterations (plates pulled apart) that remainder does not converge and
+cannot be cut back, and the job fails ("increment size smaller than minimum"). With contact
+pairs the wrapper gives such a step CalculiX's own times but a smallest increment of 1e-9
+(CONTACT_STATIC_TIMES, step_with_contact_increments); a step whose times the user set is left
+as it is. (A first increment of a quarter of the load also solved the plates but took the pin
+in its plate from one increment to four, past its test's time.) User-defined increments
+(DIRECT) or a non-static analysis get a warning in the report view.
 """
+import io
+import re
+
 from .interfaces import last_report
 
 MESH_TYPE = "Fem::OracleMesh"  # mesh_object.TYPE (imported there from here: no cycle)
@@ -38,6 +49,9 @@ CCX_FACES = ((0, 1, 2), (0, 3, 1), (1, 3, 2), (2, 3, 0))
 # CalculiX's stick slope for face-to-face friction, as a share of the normal slope (the
 # core's choice, mesh/InterfaceConstraints).
 STICK_SLOPE_SHARE = 0.01
+# A contact step's times when the user set none: initial increment, step, smallest and
+# largest increment (CalculiX's defaults but the smallest).
+CONTACT_STATIC_TIMES = "1.0,1.0,1e-9,1.0"
 
 
 class InterfaceCardsError(RuntimeError):
@@ -177,9 +191,14 @@ def cards(mesh_obj):
     return "\n".join(lines) + "\n"
 
 
+def has_contact(mesh_obj):
+    """Whether the last mesh's report has a contact pair."""
+    return any(e["kind"] == "contact" for e in constrained_interfaces(mesh_obj))
+
+
 def step_warnings(mesh_obj, solver):
     """What the user must know about the step CalculiX gets for these contacts."""
-    if not any(e["kind"] == "contact" for e in constrained_interfaces(mesh_obj)):
+    if not has_contact(mesh_obj):
         return []
     warnings = []
     analysis_type = getattr(solver, "AnalysisType", "static")
@@ -194,11 +213,26 @@ def step_warnings(mesh_obj, solver):
     return warnings
 
 
+def step_with_contact_increments(step_text, has_contact):
+    """FreeCAD's step text with times for contact: a *STATIC line followed by an empty data line
+    (CalculiX's defaults) gets CONTACT_STATIC_TIMES; anything else comes back unchanged."""
+    if not has_contact:
+        return step_text
+    return re.sub(r"^(\*STATIC[^\n]*)\n\n", r"\g<1>\n%s\n" % CONTACT_STATIC_TIMES, step_text, count=1,
+                  flags=re.MULTILINE)
+
+
+def _oraclemesh_of(ccxwriter):
+    """The analysis' mesh when it is an OracleMesh, else None."""
+    mesh_obj = getattr(ccxwriter, "mesh_object", None)
+    return mesh_obj if getattr(getattr(mesh_obj, "Proxy", None), "Type", None) == MESH_TYPE else None
+
+
 def _add_interface_cards(f, ccxwriter):
     import FreeCAD
 
-    mesh_obj = getattr(ccxwriter, "mesh_object", None)
-    if getattr(getattr(mesh_obj, "Proxy", None), "Type", None) != MESH_TYPE:
+    mesh_obj = _oraclemesh_of(ccxwriter)
+    if mesh_obj is None:
         return
     if "Touched" in mesh_obj.State:
         # The cards follow the mesh (its report), not settings changed since.
@@ -215,8 +249,8 @@ def _add_interface_cards(f, ccxwriter):
 
 
 def install():
-    """Make FreeCAD's CalculiX writer add the cards (once per session; without FreeCAD's FEM
-    workbench there is nothing to do)."""
+    """Make FreeCAD's CalculiX writer add the cards and give a contact step its times (once per
+    session; without FreeCAD's FEM workbench there is nothing to do)."""
     try:
         from femsolver.calculix import write_step_equation
     except ImportError:
@@ -227,7 +261,10 @@ def install():
 
     def write_step_equation_with_interfaces(f, ccxwriter):
         _add_interface_cards(f, ccxwriter)
-        original(f, ccxwriter)
+        step = io.StringIO()
+        original(step, ccxwriter)
+        mesh_obj = _oraclemesh_of(ccxwriter)
+        f.write(step_with_contact_increments(step.getvalue(), mesh_obj is not None and has_contact(mesh_obj)))
 
     write_step_equation_with_interfaces.oraclemesh_interfaces = True
     write_step_equation.write_step_equation = write_step_equation_with_interfaces
