@@ -50,6 +50,11 @@ seconds = report.get("seconds", {})
 print("contact tolerance: %s; %s tets; min dihedral %s" % (report.get("contact_tolerance"), report.get("counts", {}).get("tets"),
                                                          report.get("quality", {}).get("min_dihedral_deg")))
 print("core seconds per phase:", ", ".join("%s %.1f" % kv for kv in sorted(seconds.items()) if kv[1] >= 0.1))
+improve = report.get("improve", {})
+print("tets under 5/10/15 degrees after the improvement stage: %s/%s/%s (%s near a small input angle); "
+      "self-check %s" % (improve.get("tets_under_5_deg"), improve.get("tets_under_10_deg"),
+                         improve.get("tets_under_15_deg"), improve.get("tets_under_15_deg_near_small_input_angle"),
+                         "passed" if report.get("self_check", {}).get("ok") else report.get("self_check", {}).get("problems")))
 text = io.StringIO()
 pstats.Stats(profile, stream=text).sort_stats("cumulative").print_stats(12)
 print(text.getvalue())
