@@ -34,9 +34,9 @@ still changes between iterations (plates pulled apart) that remainder does not c
 cannot be cut back, and the job fails ("increment size smaller than minimum"). With contact
 pairs the wrapper gives such a step CalculiX's own times but a smallest increment of 1e-9
 (CONTACT_STATIC_TIMES, step_with_contact_increments); a step whose times the user set is left
-as it is. (A first increment of a quarter of the load also solved the plates but took the pin
-in its plate from one increment to four, past its test's time.) User-defined increments
-(DIRECT) or a non-static analysis get a warning in the report view.
+as it is. (A smaller first increment would let the plates close too, but gives contacts that
+converge under the whole load several increments each.) User-defined increments (DIRECT) or a
+non-static analysis get a warning in the report view.
 """
 import io
 import re
@@ -213,10 +213,11 @@ def step_warnings(mesh_obj, solver):
     return warnings
 
 
-def step_with_contact_increments(step_text, has_contact):
+def step_with_contact_increments(step_text, contact):
     """FreeCAD's step text with times for contact: a *STATIC line followed by an empty data line
-    (CalculiX's defaults) gets CONTACT_STATIC_TIMES; anything else comes back unchanged."""
-    if not has_contact:
+    (CalculiX's defaults) gets CONTACT_STATIC_TIMES when `contact`; anything else comes back
+    unchanged."""
+    if not contact:
         return step_text
     return re.sub(r"^(\*STATIC[^\n]*)\n\n", r"\g<1>\n%s\n" % CONTACT_STATIC_TIMES, step_text, count=1,
                   flags=re.MULTILINE)
