@@ -6,8 +6,6 @@
 #include <limits>
 #include <vector>
 
-#include "mesh/Quality.h"
-
 namespace oraclemesh {
 namespace {
 
@@ -148,10 +146,6 @@ class Sandwich {
   std::vector<int64_t> used_;  // the apexes and every corner of the faces reached
 };
 
-double volumeOf(const std::vector<Point3>& p, const TetCorners& t) {
-  return tetVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
-}
-
 }  // namespace
 
 int removeFaces(ImprovementMesh& mesh, int64_t a, int64_t b, int64_t c, const SizeCriteria& sizes) {
@@ -200,12 +194,12 @@ int removeFaces(ImprovementMesh& mesh, int64_t a, int64_t b, int64_t c, const Si
   double oldVolume = 0, newVolume = 0;
   for (int64_t t : old) {
     before = std::min(before, mesh.quality(t));
-    oldVolume += volumeOf(p, mesh.tet(t));
+    oldVolume += tetVolume(p, mesh.tet(t));
   }
   if (!(after > before)) return 0;
   // Positive new tets around the apexes' edge fill the two cones over the disk once; a rim
   // winding twice around that edge would not, and shows in the volume.
-  for (const TetCorners& t : made) newVolume += volumeOf(p, t);
+  for (const TetCorners& t : made) newVolume += tetVolume(p, t);
   if (!(std::abs(newVolume - oldVolume) <= 1e-9 * oldVolume)) return 0;
   mesh.replace(old, made, material);
   return static_cast<int>(chosen.size());

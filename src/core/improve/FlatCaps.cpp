@@ -167,10 +167,7 @@ class CapRemoval {
   }
 
  private:
-  double volumeOf(const TetCorners& t) const {
-    const auto& p = work_.points();
-    return tetVolume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]);
-  }
+  double volumeOf(const TetCorners& t) const { return tetVolume(work_.points(), t); }
 
   // Cheap first look before the face lookups. isFlat puts the corners in a slab of width
   // w = 2 flatness; the faces facing one way cover the tet's shadow on the slab, at most twice

@@ -47,6 +47,10 @@ double smallestDihedral(const Point3& a, const Point3& b, const Point3& c, const
   return bestCos > kRankableCosine ? smallest : exact(bestK, bestL);
 }
 
+double tetVolume(const std::vector<Point3>& points, const TetCorners& t) {
+  return tetVolume(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
+}
+
 double smallestDihedral(const std::vector<Point3>& points, const TetCorners& t) {
   return smallestDihedral(points[t[0]], points[t[1]], points[t[2]], points[t[3]]);
 }

@@ -19,6 +19,9 @@ int exactOrientation(const Point3& a, const Point3& b, const Point3& c, const Po
 double smallestDihedral(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 double smallestDihedral(const std::vector<Point3>& points, const TetCorners& t);
 
+// Signed volume of tet t (mesh/Quality.h's tetVolume of its corners).
+double tetVolume(const std::vector<Point3>& points, const TetCorners& t);
+
 // Circumradius of a boundary triangle (what the facet size bounds); infinite when it is flat.
 double triangleCircumradius(const Point3& a, const Point3& b, const Point3& c);
 
