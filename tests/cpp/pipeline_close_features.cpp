@@ -76,11 +76,13 @@ TEST(CloseFeatures, PartsInContactAlongACircleMeshWithEveryCircleAsMeshEdges) {
 // the lower box's top edge at (2, 10, 10) and (8, 10, 10), 1 and 2 from the curves' ends. Both
 // curves are creases of the assembly on either side of the crossing, so each crossing must be
 // a mesh vertex where four chains of feature edges meet. Cell sizes 3 and 5 once ended in an
-// internal error (the crossing taken for a T, a zero-length feature edge at (8, 10, 10)).
+// internal error (the crossing taken for a T, a zero-length feature edge at (8, 10, 10)); cell
+// size 7 ended in one too, a second crossing 0.1 beside the first (the chord after a sample
+// next to the crossing passing within reach of the other curve).
 TEST(CloseFeatures, EdgesOfTouchingBoxesCrossingNearTheirEndsMeetAtAMeshVertex) {
   const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
   const TopoDS_Shape upper = BRepPrimAPI_MakeBox(gp_Pnt(2, 3, 10), 6, 8, 5).Shape();
-  for (double size : {3.0, 5.0}) {
+  for (double size : {3.0, 5.0, 7.0}) {
     const nlohmann::json job = {{"inputs",
                                  {{{"name", "lower"}, {"brep", test::brepText(lower)}, {"material", 1}},
                                   {{"name", "upper"}, {"brep", test::brepText(upper)}, {"material", 2}}}},

@@ -53,6 +53,43 @@ TEST(RuleSetQ, CadCurvesCrossingMidSegmentShareTheCrossing) {
   EXPECT_EQ(splitAtCrossings(graph, 1e-9).polylines.size(), 2u);
 }
 
+TEST(RuleSetQ, ACrossingNextToAnInnerSampleTakesItsPlace) {
+  // A curve sampled every 1 crossed at x = 2.1 (next to its sample at 2), at x = 5.5 (halfway
+  // between two) and at x = 9.8 (next to its end): the sample at 2 becomes the crossing instead
+  // of leaving a 0.1 piece beside it, 5.5 is added, and the end at 10 stays where it is (other
+  // curves share it), so a 0.2 piece remains there.
+  std::vector<Point3> along;
+  for (int k = 0; k <= 10; ++k) along.push_back({double(k), 0, 0});
+  FeatureGraph graph;
+  graph.polylines = {cadCurve(along, 1), cadCurve({{2.1, -5, 0}, {2.1, 5, 0}}, 2),
+                     cadCurve({{5.5, -5, 0}, {5.5, 5, 0}}, 3), cadCurve({{9.8, -5, 0}, {9.8, 5, 0}}, 4)};
+  const FeatureGraph split = splitAtCrossings(graph, 1e-9, 1e-6, 1);
+  std::vector<Point3> kept;
+  for (const FeaturePolyline& pl : split.polylines)
+    if (pl.edge == 1) kept.insert(kept.end(), pl.points.begin() + (kept.empty() ? 0 : 1), pl.points.end());
+  const std::vector<double> expected = {0, 1, 2.1, 3, 4, 5, 5.5, 6, 7, 8, 9, 9.8, 10};
+  ASSERT_EQ(kept.size(), expected.size());
+  for (size_t k = 0; k < kept.size(); ++k) expectNear(kept[k], {expected[k], 0, 0}, 1e-12);
+  // Every crossing is still a vertex of both curves.
+  EXPECT_EQ(findStarVertices(split, 1e-9).size(), 3u);
+}
+
+TEST(RuleSetQ, ANearMissBesideACrossingIsTheSameCrossing) {
+  // Crossed at x = 2, 0.2 before its sample at 2.2: the chord from 2.2 on passes within the
+  // curve tolerance (0.25) of the other curve too. One crossing, at x = 2, where both curves
+  // break; no second one 0.1 beside it.
+  FeatureGraph graph;
+  graph.polylines = {cadCurve({{-2, 0, 0}, {0, 0, 0}, {2.2, 0, 0}, {4, 0, 0}, {6, 0, 0}}, 1),
+                     cadCurve({{2, -5, 0}, {2, -2.5, 0}, {2, 0.5, 0}, {2, 3, 0}, {2, 5, 0}}, 2)};
+  const FeatureGraph split = splitAtCrossings(graph, 1e-9, 0.25, 1);
+  ASSERT_EQ(split.polylines.size(), 4u);
+  for (const FeaturePolyline& pl : split.polylines) {
+    const Point3 inner = distance(pl.points.front(), {2, 0, 0}) < 1e-12 ? pl.points.front() : pl.points.back();
+    expectNear(inner, {2, 0, 0}, 1e-12);
+    for (size_t k = 0; k + 1 < pl.points.size(); ++k) EXPECT_GT(distance(pl.points[k], pl.points[k + 1]), 0.5);
+  }
+}
+
 TEST(RuleSetQ, ChordsOfCurvesThatNeverMeetAreNotSplit) {
   // Two coarse chords cross within the chord tolerance, but the exact curves they sample stay
   // 0.2 apart (Kurbelwelle.stp: arcs on planes 0.2 mm apart); splitting them would put a

@@ -125,6 +125,39 @@ TEST(SharpEdges, TangentFilletEdgesAreNotSharp) {
   EXPECT_EQ(extractSharpEdges(solid, 0, 95, 3).polylines.size(), 0u);
 }
 
+TEST(SharpEdges, SegmentsFollowTheLocalLengthAlongAnEdge) {
+  // A 100 mm box edge along x whose local length grows from 0.1 mm at x = 0 by 0.3 per mm (a
+  // short edge's size graded as the sizing field grades it): the segments grow with it instead
+  // of all taking the smallest length (1000 of them).
+  BrepSolid solid(BRepPrimAPI_MakeBox(100, 20, 30).Shape(), "bar");
+  auto local = [](const Point3& p) { return 0.1 + 0.3 * std::abs(p[0]); };
+  const FeatureGraph graph = extractSharpEdges(solid, 0, 30, 50, 0, local);
+  expectWellFormed(solid, graph, 0, 50);
+  const FeaturePolyline* alongX = nullptr;
+  for (const FeaturePolyline& pl : graph.polylines)
+    if (std::abs(pl.points.front()[1]) + std::abs(pl.points.front()[2]) == 0 &&
+        std::abs(pl.points.back()[1]) + std::abs(pl.points.back()[2]) == 0)
+      alongX = &pl;
+  ASSERT_NE(alongX, nullptr);
+  // The integral of 1 / (0.1 + 0.3 x) over [0, 100] is ln(301) / 0.3 = 19.0 segments.
+  const size_t segments = alongX->points.size() - 1;
+  EXPECT_GE(segments, 19u);
+  EXPECT_LE(segments, 21u);
+  double total = 0;
+  for (size_t i = 0; i < segments; ++i) {
+    const Point3 &a = alongX->points[i], &b = alongX->points[i + 1];
+    const double length = distance(a, b);
+    total += length;
+    EXPECT_LE(length, local(0.5 * (a + b)) * 1.02) << "segment " << i << " longer than its local length";
+    if (i > 0) {  // neighbours differ as the local length does (0.3 per mm), not by jumps
+      const double before = distance(alongX->points[i - 1], a);
+      EXPECT_LE(length / before, 1.5) << "segment " << i;
+    }
+  }
+  EXPECT_NEAR(total, 100, 1e-9);
+  EXPECT_LT(distance(alongX->points[0], alongX->points[1]), 0.2);  // the short end stays fine
+}
+
 TEST(SharpEdges, PartStep) {
   const auto solid = BrepSolid::fromFile(cadDir() + "/part.step", "part");
   const double segment = solid->bbox().diagonal() / 40;

@@ -222,16 +222,14 @@ FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, doubl
       if (firstVertex.IsNull() || lastVertex.IsNull()) continue;  // infinite edge: not in a solid
       const bool closed = firstVertex.IsSame(lastVertex);
       BRepAdaptor_Curve curve(forward);
-      double segmentLength = maxSegmentLength;
-      if (localSegmentLength) {
-        constexpr int kProbes = 8;
-        for (int k = 0; k <= kProbes; ++k) {
-          const double u = curve.FirstParameter() + (curve.LastParameter() - curve.FirstParameter()) * k / kProbes;
-          segmentLength = std::min(segmentLength, localSegmentLength(toPoint3(curve.Value(u))));
-        }
-      }
-      std::vector<double> params = polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(),
-                                                      segmentLength, sagittaTolerance, closed ? 3 : 1);
+      std::vector<double> params =
+          localSegmentLength
+              ? gradedPolylineParameters(
+                    curve, curve.FirstParameter(), curve.LastParameter(),
+                    [&](const gp_Pnt& p) { return localSegmentLength(toPoint3(p)); }, maxSegmentLength,
+                    sagittaTolerance, closed ? 3 : 1)
+              : polylineParameters(curve, curve.FirstParameter(), curve.LastParameter(), maxSegmentLength,
+                                   sagittaTolerance, closed ? 3 : 1);
       const auto neighbours = narrow.find(e);
       if (neighbours != narrow.end()) {
         // Near a narrow corner the chords keep a fraction of the gap to the neighbouring

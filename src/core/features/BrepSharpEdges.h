@@ -23,8 +23,8 @@ namespace oraclemesh {
 // Curve ids are sourceIndex * kCurvesPerSource + edge index: unique and deterministic even
 // when the graphs of several solids are merged. `edge` is the 0-based edge index.
 // sagittaTolerance > 0 replaces featureSagittaTolerance (CurveSampling.h) as the chord bound.
-// localSegmentLength, when given, lowers maxSegmentLength per edge to its smallest value along
-// the edge (the sizing field's edge size).
+// localSegmentLength, when given (the sizing field's edge size), grades the segments along
+// each edge by it (gradedPolylineParameters), below maxSegmentLength.
 FeatureGraph extractSharpEdges(const BrepTopology& solid, int sourceIndex, double sharpAngleDeg,
                                double maxSegmentLength, double sagittaTolerance = 0,
                                const std::function<double(const Point3&)>& localSegmentLength = {});

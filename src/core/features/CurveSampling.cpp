@@ -47,6 +47,60 @@ std::vector<double> polylineParameters(const BRepAdaptor_Curve& curve, double fi
   return params;
 }
 
+std::vector<double> gradedPolylineParameters(const BRepAdaptor_Curve& curve, double first, double last,
+                                             const std::function<double(const gp_Pnt&)>& localLength,
+                                             double maxSegmentLength, double sagittaTolerance, int minSegments) {
+  const double length = GCPnts_AbscissaPoint::Length(curve, first, last);
+  auto lengthAt = [&](double u) { return std::min(maxSegmentLength, localLength(curve.Value(u))); };
+  // March along the curve in steps of half the local length, recording arc length, parameter
+  // and the integral of 1 / length (trapezoids). A local length that is not positive and
+  // finite somewhere leaves the curve to the uniform split at maxSegmentLength.
+  auto usable = [](double l) { return l > 0 && std::isfinite(l); };
+  auto uniform = [&](double segmentLength) {
+    return polylineParameters(curve, first, last, segmentLength, sagittaTolerance, minSegments);
+  };
+  struct Station {
+    double arc, u, count;
+  };
+  std::vector<Station> stations{{0, first, 0}};
+  double here = lengthAt(first);
+  if (!usable(here)) return uniform(maxSegmentLength);
+  double smallest = here, largest = here;
+  while (stations.back().arc < length) {
+    const Station previous = stations.back();
+    const double step = std::min(0.5 * here, length - previous.arc);
+    GCPnts_AbscissaPoint advance(curve, step, previous.u);
+    const double u = advance.IsDone() ? std::min(advance.Parameter(), last) : last;
+    const double next = lengthAt(u);
+    if (!usable(next)) return uniform(maxSegmentLength);
+    smallest = std::min(smallest, next);
+    largest = std::max(largest, next);
+    const double arc = (u >= last) ? length : previous.arc + step;
+    stations.push_back({arc, u, previous.count + 0.5 * step * (1 / here + 1 / next)});
+    here = next;
+    if (u >= last) break;
+  }
+  stations.back().u = last;
+  // A length that does not vary along the curve gives the uniform split exactly.
+  if (smallest == largest) return uniform(smallest);
+  const double total = stations.back().count;
+  const int segments = std::max(minSegments, static_cast<int>(std::ceil(total - 1e-9)));
+  std::vector<double> params{first};
+  size_t k = 0;
+  for (int i = 1; i < segments; ++i) {
+    const double target = total * i / segments;
+    while (k + 2 < stations.size() && stations[k + 1].count < target) ++k;
+    const Station &a = stations[k], &b = stations[k + 1];
+    const double t = b.count > a.count ? std::clamp((target - a.count) / (b.count - a.count), 0.0, 1.0) : 0.5;
+    GCPnts_AbscissaPoint at(curve, t * (b.arc - a.arc), a.u);
+    const double u = at.IsDone() ? at.Parameter() : a.u + t * (b.u - a.u);
+    params.push_back(std::clamp(u, params.back(), last));
+  }
+  params.push_back(last);
+  refineParameters(curve, params, [sagittaTolerance](const gp_Pnt&) { return sagittaTolerance; }, sagittaTolerance);
+  return params;
+}
+
 void refineParameters(const BRepAdaptor_Curve& curve, std::vector<double>& params,
                       const std::function<double(const gp_Pnt&)>& localTolerance, double floorTolerance) {
   // Each pass halves the segments still too far off; a segment's sagitta shrinks about

@@ -17,6 +17,16 @@ namespace oraclemesh {
 std::vector<double> polylineParameters(const BRepAdaptor_Curve& curve, double first, double last,
                                        double maxSegmentLength, double sagittaTolerance, int minSegments);
 
+// The same with segments that follow a local length instead of one length for the whole curve:
+// about localLength (at most maxSegmentLength) where each lies, so a long edge that ends at a
+// short one is split finely only near it. The segment count is the integral of 1 / length
+// along the curve, rounded up (at least minSegments), and the points share that integral
+// equally, so neighbouring segments differ as smoothly as the local length does. Chords
+// further than sagittaTolerance from the curve are then halved.
+std::vector<double> gradedPolylineParameters(const BRepAdaptor_Curve& curve, double first, double last,
+                                             const std::function<double(const gp_Pnt&)>& localLength,
+                                             double maxSegmentLength, double sagittaTolerance, int minSegments);
+
 // How far the chords of a feature polyline may stray from their curve, for every kind of
 // feature curve of a model of bounding-box diagonal `diagonal`. Mesh_3 puts its feature vertices
 // on the chords and the pipeline then moves them onto the exact curve; where curves meet at a

@@ -51,6 +51,8 @@ bool shareAStretch(const FeaturePolyline& x, const FeaturePolyline& y, double to
 }
 
 constexpr double kSinMinCrossingAngle = 0.0174524;  // sin(1 degree)
+// A sample where the polyline turns by less than this (cos 20 degrees) may move to a crossing.
+constexpr double kCosStraightEnough = 0.9397;
 
 bool boxesOverlap(const Bbox& a, const Bbox& b, double margin) {
   for (int k = 0; k < 3; ++k)
@@ -88,6 +90,15 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
       const double reach = userPair ? tolerance : curveTolerance;
       if (!userPair && curveTolerance <= 0) continue;
       if (!boxesOverlap(boxes[i], boxes[j], reach)) continue;
+      // Crossings of this pair, taken after all segment pairs are seen: next to a sample, the
+      // chord beyond it also passes within reach of the other curve, and that near miss is
+      // the same crossing, not a second one.
+      struct Crossing {
+        size_t a, b;
+        Point3 point;
+        double gap;
+      };
+      std::vector<Crossing> crossings;
       int overlapping = -1;  // whether the two CAD curves share a stretch; found when needed
       int exactCurvesApart = -1;  // whether the exact curves never come within `tolerance`; likewise
       for (size_t a = 0; a + 1 < first.points.size(); ++a)
@@ -131,9 +142,7 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           const bool crossingNearBothEnds =
               atEndOfFirst && atEndOfSecond && !liesOn(endOfFirst, second) && !liesOn(endOfSecond, first);
           if (crossingNearBothEnds) {
-            const Point3 meeting = 0.5 * (onFirst + onSecond);
-            inserts[i][a].push_back(meeting);
-            inserts[j][b].push_back(meeting);
+            crossings.push_back({a, b, 0.5 * (onFirst + onSecond), distance(onFirst, onSecond)});
             continue;
           }
           if (atEndOfFirst && atEndOfSecond) continue;
@@ -142,11 +151,20 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           } else if (atEndOfSecond) {
             inserts[i][a].push_back(endOfSecond);
           } else {
-            const Point3 meeting = 0.5 * (onFirst + onSecond);
-            inserts[i][a].push_back(meeting);
-            inserts[j][b].push_back(meeting);
+            crossings.push_back({a, b, 0.5 * (onFirst + onSecond), distance(onFirst, onSecond)});
           }
         }
+      // The closest approach stands for the near misses within reach of it.
+      std::stable_sort(crossings.begin(), crossings.end(),
+                       [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
+      std::vector<Point3> taken;
+      for (const Crossing& c : crossings) {
+        if (std::any_of(taken.begin(), taken.end(), [&](const Point3& p) { return distance(p, c.point) <= reach; }))
+          continue;
+        taken.push_back(c.point);
+        inserts[i][c.a].push_back(c.point);
+        inserts[j][c.b].push_back(c.point);
+      }
     }
   }
   FeatureGraph result;
@@ -174,8 +192,39 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
       points.push_back(p);
       cut.push_back(isCut);
     };
+    // A meeting point close to an inner sample of its segment (under kCrossingSpread of the
+    // segment) takes that sample's place instead of joining it: a short piece next to a
+    // crossing would force elements far smaller than the sizes around it (graded sampling puts
+    // samples anywhere along a curve). The curve's ends stay: other curves share them; so does
+    // a sample where the polyline turns (a corner of a joined curve).
+    constexpr double kCrossingSpread = 1.0 / 3;
+    std::vector<Point3> samples = pl.points;
+    std::vector<char> moved(samples.size(), 0);
+    auto movable = [&](size_t k) {
+      if (k == 0 || k + 1 >= pl.points.size() || moved[k]) return false;
+      const Point3 u = pl.points[k] - pl.points[k - 1], v = pl.points[k + 1] - pl.points[k];
+      return dot(u, v) > kCosStraightEnough * norm(u) * norm(v);
+    };
+    for (auto& [k, along] : inserts[i]) {
+      if (k + 1 >= pl.points.size()) continue;
+      const double length = distance(pl.points[k], pl.points[k + 1]);
+      for (auto p = along.begin(); p != along.end();) {
+        size_t target = pl.points.size();
+        if (movable(k) && distance(pl.points[k], *p) < kCrossingSpread * length)
+          target = k;
+        else if (movable(k + 1) && distance(*p, pl.points[k + 1]) < kCrossingSpread * length)
+          target = k + 1;
+        if (target == pl.points.size()) {
+          ++p;
+          continue;
+        }
+        samples[target] = *p;
+        moved[target] = 1;
+        p = along.erase(p);
+      }
+    }
     for (size_t k = 0; k < pl.points.size(); ++k) {
-      add(pl.points[k], false, k + 1 == pl.points.size(), tolerance);
+      add(samples[k], moved[k] != 0, k + 1 == pl.points.size(), tolerance);
       auto it = inserts[i].find(k);
       if (it == inserts[i].end() || k + 1 == pl.points.size()) continue;
       std::vector<Point3> along = it->second;
