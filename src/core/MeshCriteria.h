@@ -35,6 +35,12 @@ struct MaterialCriteria {
 // as its surfaces for nothing but time.
 constexpr double kFacetDistancePerSize = 0.1;
 constexpr double kEdgeSizePerSize = 1.0;
+// Cells may be this much larger than the surface sizes of curvature and short edges ask for
+// (not than a wall's thickness: a thin wall keeps its layers). Those sizes are surface
+// Delaunay ball radii, 12 segments around a circle; tets of that circumradius filled the
+// interior next to every curved face with two to three times the tets per boundary triangle
+// that Gmsh and Netgen make, for no gain in the boundary or the volume.
+constexpr double kCellSizePerSurfaceSize = 2.0;
 
 struct CriteriaTable {
   MaterialCriteria defaults;
@@ -42,6 +48,9 @@ struct CriteriaTable {
   // Sizes from the geometry (curvature, short edges, wall thickness); null when the job
   // leaves sizing to the constants alone.
   std::shared_ptr<const SizeField> field;
+  // The cells' sizes from the same geometry (kCellSizePerSurfaceSize): set with `field`, and
+  // nowhere below it.
+  std::shared_ptr<const SizeField> cell_field;
   // Sizes that keep gaps between parts open; null when there are none. They lower the sizes
   // on the surfaces (facets, facet distance, feature edges), the user's too: two parts apart
   // stay apart at every mesh size. Not the cells: a gap is empty space, the faces across it
@@ -65,6 +74,8 @@ struct CriteriaTable {
   struct FieldValues {
     double field = std::numeric_limits<double>::infinity();
     double gap = std::numeric_limits<double>::infinity();
+    // The cell field (cell_field), where a caller asked for it (cellFieldAt).
+    double cell = std::numeric_limits<double>::infinity();
   };
   FieldValues fieldsAt(const Point3& p) const {
     FieldValues v;
@@ -77,7 +88,7 @@ struct CriteriaTable {
   // the sizing field where the job left them unset, and on the surfaces by the gap sizes.
   double cellSizeAt(int material, const Point3& p) const {
     const MaterialCriteria& c = of(material);
-    return field && c.from_field.cell_size ? std::min(c.cell_size, field->at(p)) : c.cell_size;
+    return cell_field && c.from_field.cell_size ? std::min(c.cell_size, cell_field->at(p)) : c.cell_size;
   }
   double facetSizeAt(int material, const Point3& p) const { return facetSize(material, fieldsAt(p)); }
   double facetDistanceAt(int material, const Point3& p) const { return facetDistance(material, fieldsAt(p)); }

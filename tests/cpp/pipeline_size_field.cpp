@@ -16,7 +16,10 @@
 #include <set>
 
 #include "Error.h"
+#include "domain/HierarchicalOracle.h"
+#include "job/InputLoading.h"
 #include "job/Pipeline.h"
+#include "job/ResolvedCriteria.h"
 #include "sizing/Fineness.h"
 #include "input_errors.h"
 #include "mesh_checks.h"
@@ -75,6 +78,44 @@ TEST(SizeFieldModerate, ASmallPinInALargeBlockKeepsItsVolumeAndTwelveSegmentsAro
   std::cout << "[ figures  ] without the field: rim segments " << rimSegments(coarse.mesh) << "\n";
   EXPECT_LT(rimSegments(coarse.mesh), 12);
   EXPECT_FALSE(coarse.report.at("criteria").contains("size_field"));
+}
+
+// The sizes a job's criteria give at a point, as the pipeline attaches them (no contact
+// tolerance: single inputs).
+CriteriaTable attachedCriteria(const json& job) {
+  const JobSpec spec = JobSpec::fromJson(job, "");
+  RunControl control;
+  const HierarchicalOracle oracle(loadInputs(spec, control).entries);
+  CriteriaTable table = resolveCriteria(spec, oracle.diagonal());
+  attachSizeField(table, spec, oracle, 0, control);
+  return table;
+}
+
+// Cells may be twice what the curvature asks of the pin's faces (surface Delaunay balls;
+// cells that small filled curved parts with two to three times Gmsh's tets per boundary
+// triangle), but no larger than a wall's thickness asks: the plate's cells stay at a third of
+// its thickness, its layers through it as they were.
+TEST(SizeFieldModerate, CellsTakeTwiceTheCurvatureSizesButAWallsThicknessAsItIs) {
+  const CriteriaTable pin = attachedCriteria(pinInBlockJob());
+  ASSERT_TRUE(pin.field && pin.cell_field);
+  const Point3 onPin{103, 100, 20};  // on the pin's side, in the block
+  const double surface = pin.field->at(onPin), cell = pin.cellSizeAt(1, onPin);
+  std::cout << "[ figures  ] pin: facet size " << pin.facetSizeAt(1, onPin) << ", cell size " << cell << "\n";
+  EXPECT_NEAR(pin.facetSizeAt(1, onPin), surface, 1e-12 * surface);
+  // 12 segments around a radius of 3: 0.3 of it, and up to a third more between the samples
+  // (grading, thinning).
+  EXPECT_GE(surface, 0.3 * 3 * (1 - 1e-9));
+  EXPECT_LE(surface, 0.4 * 3);
+  EXPECT_NEAR(cell / surface, kCellSizePerSurfaceSize, 0.1 * kCellSizePerSurfaceSize);
+
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(100, 100, 1).Shape();
+  const CriteriaTable wall = attachedCriteria(
+      {{"inputs", {{{"name", "plate"}, {"brep", test::brepText(plate)}, {"material", 1}}}}, {"element_order", 1}});
+  const Point3 inWall{50, 50, 0};  // on its bottom face
+  std::cout << "[ figures  ] plate: facet size " << wall.facetSizeAt(1, inWall) << ", cell size "
+            << wall.cellSizeAt(1, inWall) << "\n";
+  EXPECT_LE(wall.cellSizeAt(1, inWall), 0.42);  // a third of the thickness, and up to 0.2 of it more between samples
+  EXPECT_NEAR(wall.cellSizeAt(1, inWall), wall.facetSizeAt(1, inWall), 1e-12);
 }
 
 // Issue 16's plate, 100 x 100 x 1, with no size and no fineness in the job: three sizes through

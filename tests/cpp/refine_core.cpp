@@ -109,6 +109,8 @@ TEST(RefineSizeBounds, CornerBoundsStayUnderTheFieldsAndDecideMostCells) {
   opts.criteria.field = std::make_shared<SizeField>(
       std::vector<SizeSample>{{{0.5, 0, 0}, 0.08, SizeReason::Curvature}, {{-0.3, 0.4, 0}, 0.15, SizeReason::ShortEdge}},
       0.3, 0.5, 1e-3);
+  // The cells' own field (the job's has larger sizes; the same samples keep this mesh fine).
+  opts.criteria.cell_field = opts.criteria.field;
   opts.criteria.gap_field =
       std::make_shared<SizeField>(std::vector<SizeSample>{{{0, 0, 0.9}, 0.1, SizeReason::Gap}}, 0.5, 1.0, 1e-3);
   RunControl control;
@@ -125,9 +127,10 @@ TEST(RefineSizeBounds, CornerBoundsStayUnderTheFieldsAndDecideMostCells) {
     const CriteriaTable::FieldValues exact = opts.criteria.fieldsAt(centre);
     EXPECT_LE(below.field, exact.field);
     EXPECT_LE(below.gap, exact.gap);
+    EXPECT_LE(below.cell, opts.criteria.cell_field->at(centre));
     if (c->info().label <= 0) continue;
     ++labelled;
-    decided += c->info().radius <= std::min(opts.criteria.defaults.cell_size, below.field);
+    decided += c->info().radius <= std::min(opts.criteria.defaults.cell_size, below.cell);
   }
   std::cout << "[ figures  ] " << decided << " of " << labelled << " cells meet their size by the corner bound\n";
   EXPECT_GT(decided, labelled / 2);

@@ -117,6 +117,7 @@ json criteriaReportJson(const JobReport& r) {
     crit["size_field"]["fineness"] = r.fineness;
     crit["size_field"]["segments_per_circle"] = preset->segments_per_circle;
     crit["size_field"]["sizes_per_thickness"] = preset->sizes_per_thickness;
+    crit["size_field"]["cell_size_per_surface_size"] = kCellSizePerSurfaceSize;
   }
   // report.criteria.gap_sizes: the gaps between parts the sizes keep open, narrowest first (a
   // width at the CAD's tolerance is a pair the user may want bonded: contact_tolerance).

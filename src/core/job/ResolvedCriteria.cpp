@@ -169,8 +169,13 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
                      ": choose a coarser criteria.fineness, give that input its own sizes, or raise limits.max_vertices");
   }
   const double floor = kSmallestSizeOfDiagonal * oracle.diagonal();
-  if (fineness)
+  if (fineness) {
+    std::vector<SizeSample> cellSamples = sizes.samples;
+    for (SizeSample& s : cellSamples)
+      if (s.reason != SizeReason::Thickness) s.size *= kCellSizePerSurfaceSize;
     table.field = std::make_shared<const SizeField>(std::move(sizes.samples), grading, cap, floor, kSampleThinning);
+    table.cell_field = std::make_shared<const SizeField>(std::move(cellSamples), grading, cap, floor, kSampleThinning);
+  }
   if (!sizes.gap_samples.empty())
     table.gap_field =
         std::make_shared<const SizeField>(std::move(sizes.gap_samples), grading, cap, floor, kSampleThinning);

@@ -101,11 +101,11 @@ double RuleSetTRefiner::cellBadness(CH c, bool* sizeFails, std::string* reason) 
   const int label = c->info().label;
   const MaterialCriteria& criteria = options_.criteria.of(label);
   const CellShape shape = measureCell(cornerPoints(c), c->info().radius);
-  if (options_.criteria.field && criteria.from_field.cell_size) {
+  if (options_.criteria.cell_field && criteria.from_field.cell_size) {
     // Most cells meet their size by far: a lower bound of the field from the corners' values
     // decides those without a query at the circumcentre.
     const VH corners[4] = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
-    const double below = std::min(criteria.cell_size, fieldsBelow(c->info().circumcentre, corners, 4).field);
+    const double below = std::min(criteria.cell_size, fieldsBelow(c->info().circumcentre, corners, 4).cell);
     if (below > 0 && CellCriteria(criteria, below).judge(shape).badness == 0) {
       if (sizeFails) *sizeFails = false;
       return 0;

@@ -56,9 +56,9 @@ double RuleSetTRefiner::newStarMinDihedral(const Zone& zone) const {
   const CriteriaTable& criteria = options_.criteria;
   double fieldAtApex = -1;
   auto cellSizeHolds = [&](const MaterialCriteria& crit, int label, const K::Point_3& centre, double r) {
-    if (!(criteria.field && crit.from_field.cell_size)) return !(crit.cell_size > 0 && r > crit.cell_size);
-    if (fieldAtApex < 0) fieldAtApex = criteria.field->at(apex);
-    const double lower = std::min(crit.cell_size, (fieldAtApex - criteria.field->grading() * r) * (1 - 1e-9));
+    if (!(criteria.cell_field && crit.from_field.cell_size)) return !(crit.cell_size > 0 && r > crit.cell_size);
+    if (fieldAtApex < 0) fieldAtApex = criteria.cell_field->at(apex);
+    const double lower = std::min(crit.cell_size, (fieldAtApex - criteria.cell_field->grading() * r) * (1 - 1e-9));
     if (r <= lower) return true;
     const double cellSize = criteria.cellSizeAt(label, toPoint3(centre));
     return !(cellSize > 0 && r > cellSize);

@@ -68,12 +68,14 @@ CriteriaTable::FieldValues RuleSetTRefiner::fieldsBelow(const Point3& p, const V
   CriteriaTable::FieldValues below;
   if (criteria.field) below.field = 0;
   if (criteria.gap_field) below.gap = 0;
+  if (criteria.cell_field) below.cell = 0;
   if (!criteria.varies()) return below;
   for (int k = 0; k < count; ++k) {
     VertexInfo& info = vertices[k]->info();
     const Point3 at = toPoint3(vertices[k]->point());
     if (!(info.fieldsReadAt == at)) {
       info.fields = criteria.fieldsAt(at);
+      if (criteria.cell_field) info.fields.cell = criteria.cell_field->at(at);
       info.fieldsReadAt = at;
     }
     const double d = distance(p, at);
@@ -82,6 +84,8 @@ CriteriaTable::FieldValues RuleSetTRefiner::fieldsBelow(const Point3& p, const V
       below.field = std::max(below.field, (info.fields.field - criteria.field->grading() * d) * (1 - 1e-9));
     if (criteria.gap_field)
       below.gap = std::max(below.gap, (info.fields.gap - criteria.gap_field->grading() * d) * (1 - 1e-9));
+    if (criteria.cell_field)
+      below.cell = std::max(below.cell, (info.fields.cell - criteria.cell_field->grading() * d) * (1 - 1e-9));
   }
   return below;
 }
