@@ -38,8 +38,8 @@ constexpr double kEdgeSizePerSize = 1.0;
 // Cells may be this much larger than the surface sizes of curvature and short edges ask for
 // (not than a wall's thickness: a thin wall keeps its layers). Those sizes are surface
 // Delaunay ball radii, 12 segments around a circle; tets of that circumradius filled the
-// interior next to every curved face with two to three times the tets per boundary triangle
-// that Gmsh and Netgen make, for no gain in the boundary or the volume.
+// interior next to every curved face with far more tets per boundary triangle than Gmsh
+// makes, for no gain in the boundary or the volume.
 constexpr double kCellSizePerSurfaceSize = 2.0;
 
 struct CriteriaTable {
@@ -48,8 +48,7 @@ struct CriteriaTable {
   // Sizes from the geometry (curvature, short edges, wall thickness); null when the job
   // leaves sizing to the constants alone.
   std::shared_ptr<const SizeField> field;
-  // The cells' sizes from the same geometry (kCellSizePerSurfaceSize): set with `field`, and
-  // nowhere below it.
+  // The cells' sizes from the same samples (kCellSizePerSurfaceSize); set whenever `field` is.
   std::shared_ptr<const SizeField> cell_field;
   // Sizes that keep gaps between parts open; null when there are none. They lower the sizes
   // on the surfaces (facets, facet distance, feature edges), the user's too: two parts apart
@@ -74,7 +73,7 @@ struct CriteriaTable {
   struct FieldValues {
     double field = std::numeric_limits<double>::infinity();
     double gap = std::numeric_limits<double>::infinity();
-    // The cell field (cell_field), where a caller asked for it (cellFieldAt).
+    // The cell field; only the thesis engine's corner bounds fill it (RuleSetTRefiner::fieldsBelow).
     double cell = std::numeric_limits<double>::infinity();
   };
   FieldValues fieldsAt(const Point3& p) const {

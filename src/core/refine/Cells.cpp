@@ -102,7 +102,7 @@ double RuleSetTRefiner::cellBadness(CH c, bool* sizeFails, std::string* reason) 
   const MaterialCriteria& criteria = options_.criteria.of(label);
   const CellShape shape = measureCell(cornerPoints(c), c->info().radius);
   if (options_.criteria.cell_field && criteria.from_field.cell_size) {
-    // Most cells meet their size by far: a lower bound of the field from the corners' values
+    // Most cells meet their size by far: a lower bound of the cell field from the corners' values
     // decides those without a query at the circumcentre.
     const VH corners[4] = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
     const double below = std::min(criteria.cell_size, fieldsBelow(c->info().circumcentre, corners, 4).cell);
