@@ -55,6 +55,8 @@ print("tets under 5/10/15 degrees after the improvement stage: %s/%s/%s (%s near
       "self-check %s" % (improve.get("tets_under_5_deg"), improve.get("tets_under_10_deg"),
                          improve.get("tets_under_15_deg"), improve.get("tets_under_15_deg_near_small_input_angle"),
                          "passed" if report.get("self_check", {}).get("ok") else report.get("self_check", {}).get("problems")))
+print("curved mid nodes kept straight (second_order_straight_fallbacks): %s"
+      % report.get("second_order_straight_fallbacks"))
 text = io.StringIO()
 pstats.Stats(profile, stream=text).sort_stats("cumulative").print_stats(12)
 print(text.getvalue())
