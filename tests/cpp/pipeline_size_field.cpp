@@ -92,9 +92,9 @@ CriteriaTable attachedCriteria(const json& job) {
 }
 
 // Cells may be twice what the curvature asks of the pin's faces (surface Delaunay balls;
-// cells that small filled curved parts with two to three times Gmsh's tets per boundary
-// triangle), but no larger than a wall's thickness asks: the plate's cells stay at a third of
-// its thickness, its layers through it as they were.
+// cells that small filled curved parts with 2.7 - 3.0 tets per boundary triangle where Gmsh
+// makes 1.67), but no larger than a wall's thickness asks: the plate's cells stay at a third
+// of its thickness, its layers through it as they were.
 TEST(SizeFieldModerate, CellsTakeTwiceTheCurvatureSizesButAWallsThicknessAsItIs) {
   const CriteriaTable pin = attachedCriteria(pinInBlockJob());
   ASSERT_TRUE(pin.field && pin.cell_field);
