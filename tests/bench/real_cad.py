@@ -200,7 +200,6 @@ def measure(mesher, path, size, diagonal, timeout):
         return tetgen(path, size, diagonal, tmp, timeout)
 
 
-matched_summaries = []
 # Gmsh's elements per circle tried, in order, to reach OracleMesh's volume accuracy.
 MATCHING_PER_CIRCLE = [12, 18, 24, 36, 48, 72]
 
@@ -214,6 +213,7 @@ class Row:
         self.json_path = json_path
         self.gmsh_seconds = None
         self.measured = {}  # mesher -> (tets, volume error %, seconds)
+        self.failed = set()  # meshers whose run gave no mesh
 
     def print(self, mesher, runs):
         seconds = statistics.median(r["seconds"] for r in runs)
@@ -221,6 +221,7 @@ class Row:
         if "error" in r:
             print("| %s | %s | %s | error: %s | | | | %.1f | |" % (self.model, self.label, mesher, r["error"][:160],
                                                                    seconds), flush=True)
+            self.failed.add(mesher)
             return None
         if mesher == "gmsh":
             self.gmsh_seconds = seconds
@@ -244,14 +245,17 @@ class Row:
 def match_oraclemesh_volume(row, path, diagonal, timeout, repeat):
     """Issue 16 compares tets "at equal or better volume accuracy": Gmsh's curvature sizing with
     more elements per circle until its volume error is no larger than OracleMesh's (tet4 both),
-    then the ratio of the tets. One row per Gmsh run tried."""
+    then the ratio of the tets. One row per Gmsh run tried; returns the summary line (None
+    without an OracleMesh mesh)."""
     if "oraclemesh" not in row.measured:
-        return
+        return None
     tets, error, seconds = row.measured["oraclemesh"]
     tried = []  # (tets, |volume error|) of Gmsh at more and more elements per circle
     for per_circle in MATCHING_PER_CIRCLE:
         mesher = "gmsh@%d" % per_circle
-        if per_circle == 12 and "gmsh" in row.measured:  # the default row is that run
+        if per_circle == 12 and "gmsh" in row.failed:  # the default row is that run
+            break
+        if per_circle == 12 and "gmsh" in row.measured:
             row.measured[mesher] = row.measured["gmsh"]
         elif row.print(mesher, [measure(mesher, path, None, diagonal, timeout) for _ in range(repeat)]) is None:
             break
@@ -270,10 +274,11 @@ def match_oraclemesh_volume(row, path, diagonal, timeout, repeat):
             at_equal = t1 * (abs(error) / e1) ** slope
             line += "; at OracleMesh's error (log-log between %d and %d per circle) about %d tets: %.2fx" % (
                 MATCHING_PER_CIRCLE[len(tried) - 2], per_circle, at_equal, tets / at_equal)
-        matched_summaries.append(line)
-        return
-    matched_summaries.append("%s: Gmsh did not reach OracleMesh's %+.2f %% volume (%d per circle tried)" % (
-        row.model, error, MATCHING_PER_CIRCLE[len(tried) - 1] if tried else 0))
+        return line
+    if len(tried) < len(MATCHING_PER_CIRCLE):
+        return "%s: Gmsh failed at %d per circle" % (row.model, MATCHING_PER_CIRCLE[len(tried)])
+    return "%s: Gmsh did not reach OracleMesh's %+.2f %% volume by %d per circle" % (
+        row.model, error, MATCHING_PER_CIRCLE[-1])
 
 
 def main():
@@ -291,6 +296,7 @@ def main():
         return netgen_child(args.netgen_child[0], float(args.netgen_child[1]), args.netgen_child[2])
     load_freecad()
     only = [s for s in args.only.split(",") if s]
+    matched_summaries = []
     print("| model | size | mesher | tets | min dihedral | tets < 10° | volume error vs CAD | seconds (median) | x Gmsh |")
     print("|---|---|---|---:|---:|---:|---:|---:|---:|")
     for model in MODELS:
@@ -312,7 +318,9 @@ def main():
             for mesher in args.meshers.split(","):
                 if mesher == "gmsh-matched":
                     if size is None:
-                        match_oraclemesh_volume(row, path, diagonal, args.timeout, args.repeat)
+                        summary = match_oraclemesh_volume(row, path, diagonal, args.timeout, args.repeat)
+                        if summary:
+                            matched_summaries.append(summary)
                     continue
                 runs = [measure(mesher, path, size, diagonal, args.timeout) for _ in range(args.repeat)]
                 row.print(mesher, runs)
