@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 
+#include "sizing/BondedWedges.h"
 #include "sizing/SizeField.h"
 
 namespace oraclemesh {
@@ -59,6 +60,14 @@ struct CriteriaTable {
   // between two parts that bridges wider empty space or has a corner farther from one of
   // them (refine/FacetCriteria.h, contact ends). 0: not checked.
   double contact_tolerance = 0;
+  // Wedges beside tangent contacts bonded by the sizing (sizing/BondedWedges.h); null: none.
+  std::shared_ptr<const BondedWedges> bonded_wedges;
+
+  // The widest empty space between two parts that counts as touching at p: the contact
+  // tolerance, or a bonded wedge's width there.
+  double bondedWidthAt(const Point3& p) const {
+    return bonded_wedges ? std::max(contact_tolerance, bonded_wedges->widthAt(p)) : contact_tolerance;
+  }
 
   // Whether sizes vary over space (either field is set).
   bool varies() const { return field || gap_field; }

@@ -3,6 +3,7 @@
 // The reference figures here are independent of the oracle: OpenCASCADE's GProp volume of the
 // STEP file, the closed-form volume of two overlapping spheres.
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -248,6 +249,42 @@ TEST(SelfCheck, TouchingPartsAreNotJoinedAcrossAGap) {
   EXPECT_TRUE(check.at("ok").get<bool>()) << check.dump(1);
   ASSERT_EQ(result.report.at("interfaces").size(), 1u);
   EXPECT_NEAR(result.report.at("interfaces")[0].at("area").get<double>(), 100.0, 1e-9);
+}
+
+// A ball of radius 5 resting on a 2 mm plate touches it at one point; beside it the empty space
+// narrows to nothing (the gap at distance d from the contact is d^2 / 10). Keeping all of it
+// open asked for sizes down to the contact tolerance and ended in minutes with the parts
+// reported joined. At the defaults the wedge is bonded where it is narrower than a tenth of the
+// size there (sizing/BondedWedges.h), and the mesh is checked against that: both parts keep
+// their volume, the ball touches the plate over a small patch around the contact point only,
+// and the rest of the gap stays open.
+TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
+  const double radius = 5;
+  const TopoDS_Shape ball = BRepPrimAPI_MakeSphere(gp_Pnt(20, 10, 2 + radius), radius).Shape();
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 40, 20, 2).Shape();
+  const json job = {{"inputs",
+                     {{{"name", "ball"}, {"brep", test::brepText(ball)}, {"material", 1}},
+                      {{"name", "plate"}, {"brep", test::brepText(plate)}, {"material", 2}}}},
+                    {"seed", 0}};
+  const JobResult result = runJob(JobSpec::fromJson(job, "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_TRUE(check.at("ok").get<bool>()) << check.dump(1);
+  EXPECT_TRUE(check.at("joined").empty()) << check.dump(1);
+  const double ballVolume = 4.0 / 3 * M_PI * radius * radius * radius;
+  EXPECT_NEAR(check.at("materials").at("1").at("mesh_volume").get<double>(), ballVolume, 0.005 * ballVolume);
+  EXPECT_NEAR(check.at("materials").at("2").at("mesh_volume").get<double>(), 1600.0, 0.005 * 1600.0);
+  const json& wedges = result.report.at("criteria").at("gap_sizes").at("bonded_wedges");
+  ASSERT_EQ(wedges.size(), 1u) << wedges.dump(1);
+  const double widest = wedges[0].at("widest").get<double>();
+  EXPECT_GT(widest, 0);
+  EXPECT_LT(widest, 0.1 * radius);
+  // The bonded patch: where the gap is under `widest`, a disc of radius sqrt(2 R widest); the
+  // mesh's interface (faces between ball and plate) lies within it, plus a triangle's reach.
+  ASSERT_EQ(result.report.at("interfaces").size(), 1u) << result.report.at("interfaces").dump(1);
+  const double patch = M_PI * 2 * radius * widest;
+  const double area = result.report.at("interfaces")[0].at("area").get<double>();
+  EXPECT_GT(area, 0);
+  EXPECT_LT(area, 4 * patch) << "bonded patch of the wedge " << patch;
 }
 
 }  // namespace

@@ -127,6 +127,20 @@ json criteriaReportJson(const JobReport& r) {
   crit["gap_sizes"] = r.criteria.gap_field ? sizeFieldJson(*r.criteria.gap_field) : json::object();
   crit["gap_sizes"]["gaps"] = gaps;
   crit["gap_sizes"]["sizes_per_gap"] = kSizesPerGap;
+  // report.criteria.gap_sizes.bonded_wedges: per pair of parts resting on each other
+  // tangentially, the widest gap beside the contact the mesh bonds and where.
+  std::map<std::pair<int, int>, const BondedWedgeSample*> widest;
+  if (r.criteria.bonded_wedges)
+    for (const BondedWedgeSample& s : r.criteria.bonded_wedges->samples()) {
+      const BondedWedgeSample*& w = widest[{s.entry, s.other}];
+      if (!w || s.width > w->width) w = &s;
+    }
+  json wedges = json::array();
+  for (const auto& [pair, s] : widest)
+    wedges.push_back({{"between", {r.inputs[pair.first].name, r.inputs[pair.second].name}},
+                      {"widest", s->width}, {"at", s->at}});
+  crit["gap_sizes"]["bonded_wedges"] = wedges;
+  crit["gap_sizes"]["wedge_bond_per_size"] = kWedgeBondPerSize;
   if (r.engine_run.mesh3) {
     const Mesh3EngineReport& mesh3 = *r.engine_run.mesh3;
     crit["cell_radius_edge_ratio_applied"] = mesh3.statistics.radius_edge_ratio_used;

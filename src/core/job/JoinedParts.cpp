@@ -40,7 +40,8 @@ class MaterialDistances {
 }  // namespace
 
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                                       double tolerance, const std::vector<double>& distanceKeptOffCad) {
+                                                       double tolerance, const std::vector<double>& distanceKeptOffCad,
+                                                       const BondedWedges* bondedWedges) {
   // A gap wider than the model is no gap of two parts; the reach only bounds the projections.
   MaterialDistances distanceTo(oracle, oracle.diagonal());
   std::map<std::pair<int, int>, JoinedAcrossGap> pairs;
@@ -56,16 +57,19 @@ std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, cons
     // the edge of their contact may have one or two nodes off it (the mesh's interface edge is
     // a chord away from the CAD's) and still one on it.
     double faceGap = std::numeric_limits<double>::infinity();
+    double beyondAllowed = std::numeric_limits<double>::infinity();  // the least over the face's nodes
     Point3 at{};
     for (int64_t v : t.v) {
       const double kept = static_cast<size_t>(v) < distanceKeptOffCad.size() ? distanceKeptOffCad[v] : 0.0;
       const double d = std::max(distanceTo(mesh.points[v], v, a), distanceTo(mesh.points[v], v, b)) - kept;
+      const double allowed = bondedWedges ? std::max(tolerance, bondedWedges->widthAt(mesh.points[v])) : tolerance;
+      beyondAllowed = std::min(beyondAllowed, d - allowed);
       if (d < faceGap) {
         faceGap = d;
         at = mesh.points[v];
       }
     }
-    if (faceGap <= tolerance) continue;
+    if (beyondAllowed <= 0) continue;
     pair.joined_area += area;
     if (faceGap > pair.widest_gap) {
       pair.widest_gap = faceGap;

@@ -11,6 +11,7 @@
 #include "Geometry.h"
 #include "domain/HierarchicalOracle.h"
 #include "mesh/TetMesh.h"
+#include "sizing/BondedWedges.h"
 
 namespace oraclemesh {
 
@@ -28,9 +29,12 @@ struct JoinedAcrossGap {
 // `tolerance` of the closures of both materials' inputs (inside an input, or on its boundary
 // to `tolerance`); sorted by material pair. `distanceKeptOffCad` (empty, or one per vertex):
 // how far the snap left each vertex off the CAD, allowed on top of `tolerance` at that vertex
-// alone (one node left off elsewhere must not hide a gap bridged here).
+// alone (one node left off elsewhere must not hide a gap bridged here). `bondedWedges` (may be
+// null): a wedge bonded beside a tangent contact allows its width at the vertices within its
+// reach, as the tolerance does everywhere.
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                                        double tolerance,
-                                                       const std::vector<double>& distanceKeptOffCad = {});
+                                                       const std::vector<double>& distanceKeptOffCad = {},
+                                                       const BondedWedges* bondedWedges = nullptr);
 
 }  // namespace oraclemesh

@@ -178,7 +178,8 @@ std::string percent(double fraction) {
 
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                      const std::map<int, double>& volume_per_material, double contact_tolerance,
-                                     const std::vector<double>& distance_kept_off_cad) {
+                                     const std::vector<double>& distance_kept_off_cad,
+                                     const BondedWedges* bonded_wedges) {
   MeshSelfCheck check;
   check.contact_tolerance = contact_tolerance > 0 ? contact_tolerance : 1e-6 * oracle.diagonal();
   struct Entries {
@@ -242,7 +243,8 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
                                std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
                                "than its elements; " + finer);
   }
-  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad);
+  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad,
+                                           bonded_wedges);
   for (const JoinedAcrossGap& j : check.joined) {
     if (j.joined_area <= check.volume_tolerance * j.interface_area) continue;
     std::ostringstream message;

@@ -47,10 +47,12 @@ struct MeshSelfCheck {
 // overlap one, the overlap is measured along jittered rays through the boxes they share, cut
 // exactly by the sources' crossings, and subtracted, with its error bar. `volume_per_material` is the mesh's (QualityReport).
 // Parts joined across a gap (findPartsJoinedAcrossGaps with `contact_tolerance`; 0 = 1e-6 of
-// the diagonal) are a problem when more than volume_tolerance of their interface is joined.
+// the diagonal; the wedges the sizing bonded, `bonded_wedges`, may be null) are a problem when
+// more than volume_tolerance of their interface is joined.
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                      const std::map<int, double>& volume_per_material,
                                      double contact_tolerance = 0,
-                                     const std::vector<double>& distance_kept_off_cad = {});
+                                     const std::vector<double>& distance_kept_off_cad = {},
+                                     const BondedWedges* bonded_wedges = nullptr);
 
 }  // namespace oraclemesh

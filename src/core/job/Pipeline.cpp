@@ -144,7 +144,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   // Nodes the snap had to leave off the CAD are that far from their part where it touches
   // another: allowed at those nodes only.
   report.self_check = checkMeshAgainstInputs(mesh, oracle, report.quality.volume_per_material,
-                                             report.contact_tolerance.value, snap.distance_kept);
+                                             report.contact_tolerance.value, snap.distance_kept,
+                                             criteria.bonded_wedges.get());
   clock.finish("check");
   if (!report.self_check.problems.empty()) {
     if (job.checks == MeshCheckMode::Error) {

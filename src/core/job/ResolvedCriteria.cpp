@@ -176,6 +176,8 @@ std::vector<PartGap> attachSizeField(CriteriaTable& table, const JobSpec& job, c
     table.field = std::make_shared<const SizeField>(std::move(sizes.samples), grading, cap, floor, kSampleThinning);
     table.cell_field = std::make_shared<const SizeField>(std::move(cellSamples), grading, cap, floor, kSampleThinning);
   }
+  if (!sizes.bonded_wedges.empty())
+    table.bonded_wedges = std::make_shared<const BondedWedges>(std::move(sizes.bonded_wedges));
   if (!sizes.gap_samples.empty())
     table.gap_field =
         std::make_shared<const SizeField>(std::move(sizes.gap_samples), grading, cap, floor, kSampleThinning);

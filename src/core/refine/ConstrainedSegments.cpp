@@ -208,6 +208,9 @@ bool RuleSetTRefiner::nearSmallAngle(const Subsegment& s) const {
       options_.small_angle_curves.end())
     return true;
   const Point3 mid = toPoint3(CGAL::midpoint(s.a->point(), s.b->point()));
+  // A bonded wedge is where two parts rest on each other tangentially: curves of both run
+  // there at an angle of nothing (a rod's end circle along the plate's edge under it).
+  if (options_.criteria.bonded_wedges && options_.criteria.bonded_wedges->widthAt(mid) > 0) return true;
   const double reachOf = 4 * length(s);
   for (const Point3& p : smallAnglePoints_)
     if (distance(p, mid) < reachOf) return true;

@@ -42,7 +42,8 @@ void RuleSetTRefiner::dualOf(CH c, int i, Point3& from, Point3& to, int& labelFr
 // outside every material between two crossings, the distance from each end to the surface
 // the other end is on, the smaller of the two (a dual edge may cross a gap obliquely; its
 // stretch there is longer than the gap is wide). Only stretches longer than `narrow` are
-// measured (projections cost), narrower ones are no gap wider than it.
+// measured (projections cost), narrower ones are no gap wider than it; nor are stretches no
+// wider than a wedge bonded there (sizing/BondedWedges.h).
 double RuleSetTRefiner::bridgedGap(const std::vector<CompositeCrossing>& crossings, double narrow) const {
   double widest = 0;
   for (size_t k = 0; k + 1 < crossings.size(); ++k) {
@@ -52,6 +53,7 @@ double RuleSetTRefiner::bridgedGap(const std::vector<CompositeCrossing>& crossin
     const auto& entries = oracle_.entries();
     const double width = std::min(entries[to.entry].source->project(from.point).distance,
                                   entries[from.entry].source->project(to.point).distance);
+    if (width <= options_.criteria.bondedWidthAt(0.5 * (from.point + to.point))) continue;
     widest = std::max(widest, width);
   }
   return widest;
@@ -61,15 +63,15 @@ bool RuleSetTRefiner::contactEnds(int materialA, int materialB) const {
   return contactEndMaterials_.count(materialA) && contactEndMaterials_.count(materialB);
 }
 
-// Whether vertex v is inside a part of `material` or within the contact tolerance of its
-// surface. A vertex put on an entry's boundary lies on that entry exactly.
+// Whether vertex v is inside a part of `material` or within the contact tolerance (or a bonded
+// wedge's width) of its surface. A vertex put on an entry's boundary lies on that entry exactly.
 bool RuleSetTRefiner::nearMaterial(VH v, int material) const {
   const auto& entries = oracle_.entries();
   const int own = v->info().boundaryEntry;
   if (own >= 0 && entries[own].material == material) return true;
   auto [it, inserted] = nearMaterial_.try_emplace({v->info().id, material}, false);
   if (!inserted) return it->second;
-  const double tolerance = options_.criteria.contact_tolerance;
+  const double tolerance = options_.criteria.bondedWidthAt(toPoint3(v->point()));
   return it->second = oracle_.distanceToMaterial(toPoint3(v->point()), material, tolerance) <= tolerance;
 }
 

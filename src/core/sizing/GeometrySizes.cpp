@@ -273,6 +273,7 @@ class FaceSampler {
       surfaceVertices_ += t.area / (1.3 * local * local);
       if (local < smallest_.size) smallest_ = {centroid(t), local, reason};
     }
+    shapeSizes_ = local_;
   }
 
  public:
@@ -294,6 +295,9 @@ class FaceSampler {
   // input hides count too: an estimate for orders of magnitude).
   double surfaceVertices() const { return surfaceVertices_; }
   const SizeSample& smallest() const { return smallest_; }
+  // The size triangle `index` asks for from the solid's own shape (curvature, thickness; the
+  // cap without a fineness), before any gap lowers it.
+  double shapeSize(size_t index) const { return shapeSizes_[index]; }
   // `face`'s exact surface, built when first needed.
   const BRepAdaptor_Surface& surface(int face) const {
     auto& s = surfaces_[face];
@@ -393,6 +397,7 @@ class FaceSampler {
   double resolution_ = 0;  // a discrete surface's: no curvature size below it
   std::vector<std::array<double, 3>> cornerCurvatures_;  // a discrete surface's, per triangle
   std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
+  std::vector<double> shapeSizes_;  // local_ before the gaps lowered it
   double surfaceVertices_ = 0;
   SizeSample smallest_;
 };
@@ -425,6 +430,8 @@ class GapRays {
     double size = std::numeric_limits<double>::infinity();  // infinity: no gap
     double width = 0;
     size_t other = 0;  // the sampler across the gap
+    // A wedge beside a tangent contact, bonded (size infinity): the local size it was judged by.
+    double bondedReach = 0;
   };
 
   // `deviations`: per sampler, how far its triangles may lie from its input's boundary.
@@ -472,6 +479,15 @@ class GapRays {
     const Point3 hitPoint{q->x(), q->y(), q->z()};
     if (!faceEachOther(samplers_[owner], t, p, samplers_[other], facing, hitPoint))
       return {};
+    const size_t index = static_cast<size_t>(&t - samplers_[owner].triangles().data());
+    const double local = std::min(samplers_[owner].shapeSize(index), samplers_[other].shapeSize(j));
+    if (closingWedge(owner, t, p, other, facing, hitPoint, along, local)) {
+      Gap bonded;
+      bonded.width = along;
+      bonded.other = other;
+      bonded.bondedReach = local;
+      return bonded;
+    }
     double width = along;
     if (!(along - band > contactTolerance_)) {
       // From each end of the ray, its solid's nearest boundary point to the other solid's
@@ -489,6 +505,18 @@ class GapRays {
   }
 
  private:
+  // Whether the gap of width `along` between p and q is a wedge beside a tangent contact that
+  // the mesh bonds (BondedWedges.h): narrower than kWedgeBondPerSize of the local size, and
+  // closing within kWedgeClosingPerSize of it (width over the sine of the angle between the
+  // faces; a clearance between faces that face each other exactly never closes).
+  bool closingWedge(size_t owner, const FaceTriangle& t, const Point3& p, size_t other, const FaceTriangle& facing,
+                    const Point3& q, double along, double local) const {
+    if (!(along < kWedgeBondPerSize * local)) return false;
+    const std::optional<Point3> na = samplers_[owner].normalAt(t, p), nb = samplers_[other].normalAt(facing, q);
+    if (!na || !nb) return false;
+    return along <= norm(cross(*na, *nb)) * kWedgeClosingPerSize * local;
+  }
+
   const std::vector<FaceSampler>& samplers_;
   const std::vector<const Source*>& sources_;
   Triangles triangles_;
@@ -569,7 +597,15 @@ GeometrySizes geometrySizes(const HierarchicalOracle& oracle, const FinenessPres
       std::optional<OpenCascadeWork> working;
       openCascadeWork(sampler, working);
       sampler.addSamples(
-          sizes.samples, sizes.gap_samples, [&](const FaceTriangle& t, const Point3& p) { return gaps.at(s, t, p).size; },
+          sizes.samples, sizes.gap_samples,
+          [&](const FaceTriangle& t, const Point3& p) {
+            const GapRays::Gap gap = gaps.at(s, t, p);
+            if (gap.bondedReach > 0) {
+              const auto pair = std::minmax(entries[s], entries[gap.other]);
+              sizes.bonded_wedges.push_back({p, gap.width, gap.bondedReach, pair.first, pair.second});
+            }
+            return gap.size;
+          },
           control);
       if (fineness && sharpAngleDeg > 0 && sampler.topology())
         addShortEdgeSamples(*sampler.topology(), sharpAngleDeg, sizes.samples, control);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "domain/HierarchicalOracle.h"
+#include "sizing/BondedWedges.h"
 #include "sizing/Fineness.h"
 #include "sizing/SizeField.h"
 
@@ -31,12 +32,15 @@ struct GeometrySizes {
   // Per pair of entries with a gap wider than the contact tolerance: its narrowest place,
   // narrowest first.
   std::vector<PartGap> gaps;
+  // Wedges beside tangent contacts left bonded instead of sized (sizing/BondedWedges.h).
+  std::vector<BondedWedgeSample> bonded_wedges;
 };
 
 // The sizes every B-rep entry's faces and edges ask for, from their tessellation, at most
 // `cap`: with a fineness, curvature, wall thickness and (sharpAngleDeg > 0) short sharp edges;
 // with or without one, gaps to other entries wider than `contactTolerance` (narrower ones
-// touch), w / sizesPerGap for a gap of width w. Triangle surfaces and image labels ask for the
+// touch), w / sizesPerGap for a gap of width w, except in the wedges beside tangent contacts
+// (BondedWedges.h), which are bonded. Triangle surfaces and image labels ask for the
 // same from their discrete surfaces (sizing/DiscreteSurface.h), short edges excepted.
 // When the surface estimate passes `vertexLimit`, no samples are made (the caller refuses the
 // job).
