@@ -3,6 +3,7 @@
 // The reference figures here are independent of the oracle: OpenCASCADE's GProp volume of the
 // STEP file, the closed-form volume of two overlapping spheres.
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <gtest/gtest.h>
 
@@ -285,6 +286,35 @@ TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
   const double area = result.report.at("interfaces")[0].at("area").get<double>();
   EXPECT_GT(area, 0);
   EXPECT_LT(area, 4 * patch) << "bonded patch of the wedge " << patch;
+}
+
+// A rod of radius 3 lying on a plate as long as it: the rod touches the plate's top face along
+// a line and its end circles touch the plate's top edges tangentially, curves meeting at
+// 0 degrees where neither has a vertex. Rule Set T split both curves there without end (the
+// job never finished) until Rule Set Q split them at the touching point (RuleSetQ.ACircle*).
+// At the defaults, with sharp edges, the job ends with both parts whole and their volumes.
+TEST(SelfCheck, ARodLyingOnAPlateMeshesAtTheDefaultsWithItsSharpEdges) {
+  const double radius = 3, length = 10;
+  const TopoDS_Shape rod =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 10, 2 + radius), gp_Dir(1, 0, 0)), radius, length).Shape();
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), length, 20, 2).Shape();
+  const json job = {{"inputs",
+                     {{{"name", "rod"}, {"brep", test::brepText(rod)}, {"material", 1}},
+                      {{"name", "plate"}, {"brep", test::brepText(plate)}, {"material", 2}}}},
+                    {"features", {{"sharp_angle_deg", 30}}},
+                    {"limits", {{"time_limit", 600}}},
+                    {"seed", 0}};
+  const JobResult result = runJob(JobSpec::fromJson(job, "."), RunControl());
+  const json& check = result.report.at("self_check");
+  EXPECT_TRUE(check.at("ok").get<bool>()) << check.dump(1);
+  const double rodVolume = M_PI * radius * radius * length;
+  EXPECT_NEAR(check.at("materials").at("1").at("mesh_volume").get<double>(), rodVolume, 0.005 * rodVolume);
+  EXPECT_NEAR(check.at("materials").at("2").at("mesh_volume").get<double>(), 20.0 * length * 2, 0.005 * 400);
+  EXPECT_EQ(check.at("materials").at("1").at("components").get<int>(), 1);
+  EXPECT_EQ(check.at("materials").at("2").at("components").get<int>(), 1);
+  // Where the end circles touch the plate's edges, both curves end at one shared vertex.
+  EXPECT_GE(result.report.at("features").at("star_vertices").get<int>(), 2) << result.report.at("features").dump(1);
+  ASSERT_EQ(result.report.at("criteria").at("gap_sizes").at("bonded_wedges").size(), 1u);
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <map>
 
 #include "domain/BrepSolid.h"
@@ -108,6 +110,46 @@ TEST(RuleSetQ, ChordsOfCurvesThatNeverMeetAreNotSplit) {
   const ExactCurveGap unknown = [](const FeaturePolyline&, const FeaturePolyline&) { return -1.0; };
   EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.5, 1, meeting).polylines.size(), 4u);
   EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.5, 1, unknown).polylines.size(), 4u);
+}
+
+TEST(RuleSetQ, ACircleRestingOnALineIsSplitWhereItTouchesIt) {
+  // A rod's end circle (radius 3, centre (0, 3)) on the top edge of the plate it rests on (the
+  // line y = 0): sampled at 24 chords, the samples next to the touching point lie 0.1 from
+  // the line and the chords cross it at a few degrees on both sides of (0, 0). Unsplit, the
+  // two curves meet there without a shared vertex and Rule Set T splits both without end.
+  // They must meet at the exact touching point, bitwise, and nowhere else.
+  const double r = 3;
+  std::vector<Point3> circle;
+  for (int k = 0; k <= 24; ++k) {
+    const double t = M_PI / 2 + 0.1 + 2 * M_PI * k / 24;  // the seam on top, no sample at the touching point
+    circle.push_back({r * std::cos(t), r + r * std::sin(t), 0});
+  }
+  FeatureGraph graph;
+  graph.polylines = {cadCurve(circle, 1), cadCurve({{-10, 0, 0}, {-5, 0, 0}, {5, 0, 0}, {10, 0, 0}}, 2)};
+  const ExactCurveGap touching = [](const FeaturePolyline&, const FeaturePolyline&) { return 0.0; };
+  const ExactCurveProjection project = [&](const FeaturePolyline& curve, const Point3& p) -> std::optional<Point3> {
+    if (curve.edge == 2) return Point3{std::clamp(p[0], -10.0, 10.0), 0, 0};
+    const Point3 centre{0, r, 0};
+    const double d = distance(p, centre);
+    if (!(d > 0)) return std::nullopt;
+    return centre + (r / d) * (p - centre);
+  };
+  // Without the exact curves nothing tells the touching from chords passing close.
+  EXPECT_EQ(splitAtCrossings(graph, 0.05, 0.3, 1).polylines.size(), 2u);
+  const FeatureGraph split = splitAtCrossings(graph, 0.05, 0.3, 1, touching, project);
+  ASSERT_EQ(split.polylines.size(), 4u);
+  int endsAtTheTouchingPoint = 0;
+  for (const FeaturePolyline& pl : split.polylines)
+    for (const Point3& end : {pl.points.front(), pl.points.back()})
+      if (distance(end, Point3{0, 0, 0}) < 1e-6) ++endsAtTheTouchingPoint;
+  EXPECT_EQ(endsAtTheTouchingPoint, 4);
+  // The circle's pieces run from the touching point round to their seam, the line's out to its
+  // ends: no piece turns back on itself next to the split.
+  for (const FeaturePolyline& pl : split.polylines)
+    for (size_t k = 0; k + 2 < pl.points.size(); ++k) {
+      const Point3 u = pl.points[k + 1] - pl.points[k], v = pl.points[k + 2] - pl.points[k + 1];
+      EXPECT_GT(dot(u, v), 0) << "curve " << pl.edge << " turns back at sample " << k + 1;
+    }
 }
 
 TEST(RuleSetQ, CurvesCrossingNearTheirEndsAreSplitNotTakenForATee) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
+#include <tuple>
 
 #include "features/UserPolylines.h"
 
@@ -50,7 +52,69 @@ bool shareAStretch(const FeaturePolyline& x, const FeaturePolyline& y, double to
   return false;
 }
 
+// The index of pl's segment nearest to p.
+size_t nearestSegment(const std::vector<Point3>& pl, const Point3& p) {
+  size_t best = 0;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k + 1 < pl.size(); ++k) {
+    const double d = distance(nearestOnPolyline({pl[k], pl[k + 1]}, p), p);
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+// Where curve `x` (near its segment `a`) touches curve `y` tangentially: the point of x's exact
+// curve nearest to y's, searched (golden section) over x's chords from the sample before
+// segment a to the one after it, each chord point taken onto x's exact curve. The distance
+// to y has one minimum there (it grows with the square of the distance from the touching
+// point). Nullopt when a projection is unknown.
+std::optional<Point3> touchingPoint(const FeaturePolyline& x, size_t a, const FeaturePolyline& y,
+                                    const ExactCurveProjection& project) {
+  const size_t from = a > 0 ? a - 1 : a, to = std::min(a + 2, x.points.size() - 1);
+  std::vector<double> along{0};  // chord length at each sample from `from`
+  for (size_t k = from; k < to; ++k) along.push_back(along.back() + distance(x.points[k], x.points[k + 1]));
+  auto onX = [&](double s) -> std::optional<Point3> {
+    size_t k = 0;
+    while (k + 2 < along.size() && s > along[k + 1]) ++k;
+    const double length = along[k + 1] - along[k];
+    const double t = length > 0 ? std::clamp((s - along[k]) / length, 0.0, 1.0) : 0.0;
+    return project(x, x.points[from + k] + t * (x.points[from + k + 1] - x.points[from + k]));
+  };
+  auto gapAt = [&](double s) {
+    const std::optional<Point3> p = onX(s);
+    const std::optional<Point3> q = p ? project(y, *p) : std::nullopt;
+    return q ? distance(*p, *q) : std::numeric_limits<double>::infinity();
+  };
+  constexpr double kGolden = 0.6180339887498949;
+  double lo = 0, hi = along.back();
+  double s1 = hi - kGolden * (hi - lo), s2 = lo + kGolden * (hi - lo);
+  double g1 = gapAt(s1), g2 = gapAt(s2);
+  for (int iteration = 0; iteration < 60 && hi - lo > 1e-12 * along.back(); ++iteration) {
+    if (g1 <= g2) {
+      hi = s2;
+      s2 = s1;
+      g2 = g1;
+      s1 = hi - kGolden * (hi - lo);
+      g1 = gapAt(s1);
+    } else {
+      lo = s1;
+      s1 = s2;
+      g1 = g2;
+      s2 = lo + kGolden * (hi - lo);
+      g2 = gapAt(s2);
+    }
+  }
+  if (!std::isfinite(std::min(g1, g2))) return std::nullopt;
+  return onX(g1 <= g2 ? s1 : s2);
+}
+
 constexpr double kSinMinCrossingAngle = 0.0174524;  // sin(1 degree)
+constexpr double kSinNearTangent = 0.1736482;  // sin(10 degrees)
+// Exact curves closer than this fraction of the pair tolerance touch.
+constexpr double kTouchingGapPerTolerance = 1e-3;
 // A sample where the polyline turns by less than this (cos 20 degrees) may move to a crossing.
 constexpr double kCosStraightEnough = 0.9397;
 
@@ -63,7 +127,8 @@ bool boxesOverlap(const Bbox& a, const Bbox& b, double margin) {
 }  // namespace
 
 FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance,
-                              double sharedEndClearance, const ExactCurveGap& exactCurveGap) {
+                              double sharedEndClearance, const ExactCurveGap& exactCurveGap,
+                              const ExactCurveProjection& exactCurveProjection) {
   // Split parameters per polyline: segment index -> points to insert on it.
   std::vector<std::map<size_t, std::vector<Point3>>> inserts(graph.polylines.size());
   std::vector<Bbox> boxes(graph.polylines.size());
@@ -99,6 +164,7 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
         double gap;
       };
       std::vector<Crossing> crossings;
+      std::vector<Crossing> tangents;  // chord pairs within reach, nearly parallel (below)
       int overlapping = -1;  // whether the two CAD curves share a stretch; found when needed
       int exactCurvesApart = -1;  // whether the exact curves never come within `tolerance`; likewise
       for (size_t a = 0; a + 1 < first.points.size(); ++a)
@@ -117,10 +183,17 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
             inserts[j][b].push_back(meeting);
             continue;
           }
-          // Curves meeting at less than a degree are tangent there, not crossing (chords of
-          // two tangent curves come within the tolerance over a length).
+          // Chords meeting at less than a degree are of curves tangent there, not crossing
+          // (chords of two tangent curves come within the tolerance over a length); where the
+          // exact curves are known, so are chords meeting at under ten degrees (a circle resting
+          // on a line: its chords cross the line at a few degrees a chord's length away from
+          // where the curves touch). The exact curves decide them, after this loop.
           const Point3 u = first.points[a + 1] - first.points[a], v = second.points[b + 1] - second.points[b];
-          if (norm(cross(u, v)) < kSinMinCrossingAngle * norm(u) * norm(v)) continue;
+          const double sine = norm(cross(u, v)) / (norm(u) * norm(v));
+          if (sine < kSinMinCrossingAngle || (sine < kSinNearTangent && exactCurveProjection)) {
+            tangents.push_back({a, b, 0.5 * (onFirst + onSecond), distance(onFirst, onSecond)});
+            continue;
+          }
           // Curves leaving a common end (a B-rep vertex, a clip point) at a small angle stay
           // close for a while: that is their meeting at the end, not a crossing.
           if (nearSharedEnd(first, second, onFirst)) continue;
@@ -146,14 +219,55 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
             continue;
           }
           if (atEndOfFirst && atEndOfSecond) continue;
-          if (atEndOfFirst) {  // a T: the first curve ends on the second one
+          if (atEndOfFirst && liesOn(endOfFirst, second)) {  // a T: the first curve ends on the second one
             inserts[j][b].push_back(endOfFirst);
-          } else if (atEndOfSecond) {
+          } else if (atEndOfSecond && liesOn(endOfSecond, first)) {
             inserts[i][a].push_back(endOfSecond);
           } else {
             crossings.push_back({a, b, 0.5 * (onFirst + onSecond), distance(onFirst, onSecond)});
           }
         }
+      if (!tangents.empty() && exactCurveGap && exactCurveProjection) {
+        const double touching = kTouchingGapPerTolerance * tolerance;
+        // Sample points lie on their own exact curve; on the other's too only where the two
+        // curves coincide.
+        auto onCurve = [&](const FeaturePolyline& curve, const Point3& p) {
+          const std::optional<Point3> q = exactCurveProjection(curve, p);
+          return q && distance(*q, p) <= touching;
+        };
+        double exactGap = -2;  // not asked yet
+        std::stable_sort(tangents.begin(), tangents.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
+        std::vector<size_t> seen;  // first's segments whose neighbourhood is decided
+        for (const Crossing& closest : tangents) {
+          if (std::any_of(seen.begin(), seen.end(), [&](size_t a) { return std::max(a, closest.a) - std::min(a, closest.a) <= 2; }))
+            continue;
+          seen.push_back(closest.a);
+          const double chord = distance(first.points[closest.a], first.points[closest.a + 1]);
+          const bool sharedStretch =
+              onCurve(second, first.points[closest.a]) && onCurve(second, first.points[closest.a + 1]) &&
+              onCurve(first, second.points[closest.b]) && onCurve(first, second.points[closest.b + 1]);
+          if (sharedStretch || nearSharedEnd(first, second, closest.point) ||
+              std::any_of(crossings.begin(), crossings.end(),
+                          [&](const Crossing& c) { return distance(c.point, closest.point) <= 2 * chord; }))
+            continue;
+          for (const auto& [x, y, onY] : {std::tuple{&first, &second, j}, std::tuple{&second, &first, i}}) {
+            const Point3 end = nearestEnd(*x, closest.point);
+            if (distance(end, closest.point) > endClearance || distance(nearestEnd(*y, end), end) <= curveTolerance ||
+                !onCurve(*y, end))
+              continue;
+            inserts[onY][nearestSegment(y->points, end)].push_back(end);
+          }
+          if (exactGap == -2) exactGap = exactCurveGap(first, second);
+          if (!(exactGap >= 0 && exactGap <= touching)) continue;
+          const std::optional<Point3> point = touchingPoint(first, closest.a, second, exactCurveProjection);
+          if (!point) continue;
+          const std::optional<Point3> onOther = exactCurveProjection(second, *point);
+          auto awayFromEnds = [&](const FeaturePolyline& pl) { return distance(nearestEnd(pl, *point), *point) > touching; };
+          if (onOther && distance(*onOther, *point) <= touching && distance(*point, closest.point) <= 2 * chord &&
+              awayFromEnds(first) && awayFromEnds(second))
+            crossings.push_back({nearestSegment(first.points, *point), nearestSegment(second.points, *point), *point, 0});
+        }
+      }
       // The closest approach stands for the near misses within reach of it.
       std::stable_sort(crossings.begin(), crossings.end(),
                        [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });

@@ -11,6 +11,7 @@
 // polyline touches is an ordinary end. A closed polyline (a full circle) whose two ends meet at
 // its one B-rep vertex makes that vertex a star vertex, as the thesis' definition says.
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "features/FeatureGraph.h"
@@ -25,8 +26,9 @@ namespace oraclemesh {
 // - Two CAD curves (sharp edges, junction curves) meet where they come closer than
 //   `curveTolerance` (their chords stray from the exact curves by the sampling sagitta) at an
 //   angle of at least a degree (nearer to parallel they are tangent, not crossing): there both
-//   are split at the middle of the closest points. Where one ends on the other (within
-//   100 x curveTolerance: a T), the other is split at that end point; where both ends are that
+//   are split at the middle of the closest points. Where one ends on the other (the end within
+//   curveTolerance of it, and within 100 x curveTolerance of where they meet: a T), the other
+//   is split at that end point; where both ends are that
 //   near, they meet at their ends, unless neither end lies on the other curve (within
 //   curveTolerance): then they cross near both ends and are split at the crossing. Within
 //   `sharedEndClearance` of an end both share, nothing is split: curves leaving a B-rep vertex
@@ -37,10 +39,20 @@ namespace oraclemesh {
 //   (two arcs on parallel planes a fraction of the sampling sagitta apart): when
 //   `exactCurveGap` is given, a CAD pair whose exact curves stay more than `tolerance` apart
 //   (its value for the pair; negative = unknown) is not split either.
+// - Two CAD curves that touch tangentially (a rod's end circle on the edge of the plate it
+//   rests on) meet there too. Given `exactCurveProjection` (the nearest point of a polyline's
+//   exact curve; nullopt = unknown), chords within reach at under ten degrees are decided on
+//   the exact curves, once per neighbourhood of the closest chords: where those chords lie on
+//   both curves, the curves share a stretch (not split); else at the end of one lying on the
+//   other next to the touching point (a T: the plate's edge clipped where it runs inside the
+//   rod), and, when the exact curves touch (exactCurveGap), at the touching point (on the first
+//   curve where it comes nearest to the second, and on the second).
 // Pieces keep their fields; curves are renumbered 0, 1, ...
 using ExactCurveGap = std::function<double(const FeaturePolyline&, const FeaturePolyline&)>;
+using ExactCurveProjection = std::function<std::optional<Point3>(const FeaturePolyline&, const Point3&)>;
 FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, double curveTolerance = 0,
-                              double sharedEndClearance = 0, const ExactCurveGap& exactCurveGap = {});
+                              double sharedEndClearance = 0, const ExactCurveGap& exactCurveGap = {},
+                              const ExactCurveProjection& exactCurveProjection = {});
 
 struct StarVertex {
   struct Incident {

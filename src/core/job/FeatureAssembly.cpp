@@ -3,8 +3,11 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <Standard_Failure.hxx>
 
+#include <cmath>
+#include <optional>
 #include <sstream>
 
+#include "Error.h"
 #include "domain/BrepTopology.h"
 #include "features/BrepSharpEdges.h"
 #include "features/CoincidentFeatures.h"
@@ -37,6 +40,22 @@ double exactEdgeGap(const HierarchicalOracle& oracle, const FeaturePolyline& x, 
     return extrema.IsDone() ? extrema.Value() : -1;
   } catch (const Standard_Failure&) {
     return -1;
+  }
+}
+
+// The point nearest to p of the B-rep edge polyline x samples; nullopt when x is no B-rep edge.
+std::optional<Point3> exactEdgePoint(const HierarchicalOracle& oracle, const FeaturePolyline& x, const Point3& p) {
+  if (x.source < 0 || x.edge < 0) return std::nullopt;
+  const BrepTopology* topology = oracle.entries()[x.source].source->brepTopology();
+  if (!topology) return std::nullopt;
+  try {
+    const BoundaryProjection q = topology->projectOnEdge(p, x.edge);
+    if (!std::isfinite(q.distance)) return std::nullopt;
+    return q.point;
+  } catch (const Standard_Failure&) {
+    return std::nullopt;
+  } catch (const Error&) {
+    return std::nullopt;
   }
 }
 
@@ -90,8 +109,10 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // 0.2 mm apart on parallel planes, split at a point on neither, lost two subsegments).
   const size_t unsplit = clipped.polylines.size();
   const double crossingSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
-  clipped = splitAtCrossings(clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize,
-                             [&oracle](const FeaturePolyline& x, const FeaturePolyline& y) { return exactEdgeGap(oracle, x, y); });
+  clipped = splitAtCrossings(
+      clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize,
+      [&oracle](const FeaturePolyline& x, const FeaturePolyline& y) { return exactEdgeGap(oracle, x, y); },
+      [&oracle](const FeaturePolyline& curve, const Point3& p) { return exactEdgePoint(oracle, curve, p); });
   assembled.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
   // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
   const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());
