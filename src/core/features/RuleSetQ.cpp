@@ -57,7 +57,7 @@ size_t nearestSegment(const std::vector<Point3>& pl, const Point3& p) {
   size_t best = 0;
   double bestDistance = std::numeric_limits<double>::infinity();
   for (size_t k = 0; k + 1 < pl.size(); ++k) {
-    const double d = distance(nearestOnPolyline({pl[k], pl[k + 1]}, p), p);
+    const double d = distanceToSegment(p, pl[k], pl[k + 1]);
     if (d < bestDistance) {
       bestDistance = d;
       best = k;

@@ -21,7 +21,7 @@ BondedWedges::CellKey BondedWedges::cellOf(const Point3& p) const {
 }
 
 double BondedWedges::widthAt(const Point3& p) const {
-  if (grid_.empty() || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return 0;
+  if (grid_.empty() || !isFinite(p)) return 0;
   const CellKey c = cellOf(p);
   double widest = 0;
   for (long long dx = -1; dx <= 1; ++dx)
