@@ -5,8 +5,10 @@
 // a watchdog ends it a grace period after the limit. Stuck inside OpenCASCADE on an input
 // (job/OpenCascadeStall), it is that input's geometry, as when reading it hangs: exit
 // code 2 and a message naming the input, its file and the fix. Stuck anywhere else, it is
-// the job: exit code 3 naming the job and its phase. (oraclemesh.run cannot do that to its
-// interpreter; run_isolated's worker does the same, and the batch workers kill their child.)
+// the job: exit code 3 naming the job and its phase. Either way output.report says so, as the
+// core's own report of an unfinished job does (status, error, stopped_in). (oraclemesh.run
+// cannot do that to its interpreter; run_isolated's worker does the same, and the batch
+// workers kill their child.)
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -14,8 +16,12 @@
 #include <cstdlib>
 #include <iostream>
 #include <mutex>
+#include <sstream>
+#include <fstream>
 #include <string>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 
 namespace oraclemesh::cli {
@@ -26,9 +32,11 @@ class HardDeadline {
   // to stop it first and write its partial mesh.
   // stalledInput(limit, grace, phase): the message when the job is stuck in OpenCASCADE on one of its
   // inputs (job/OpenCascadeStall.h), else empty.
-  HardDeadline(std::string jobPath, double timeLimitSeconds,
+  // reportPath: the job's output.report, or empty.
+  HardDeadline(std::string jobPath, std::string reportPath, double timeLimitSeconds,
                std::function<std::string(double limit, double grace, const std::string& phase)> stalledInput)
       : jobPath_(std::move(jobPath)),
+        reportPath_(std::move(reportPath)),
         limit_(timeLimitSeconds),
         grace_(std::min(30.0, std::max(2.0, 0.1 * limit_))),
         stalledInput_(std::move(stalledInput)) {
@@ -58,17 +66,32 @@ class HardDeadline {
     const std::string stalled = stalledInput_(limit_, grace_, phase_);
     if (!stalled.empty()) {
       std::cerr << "\noraclemesh: error: " << stalled << "\n" << std::flush;
+      writeReport("input_error", stalled);
       std::_Exit(2);  // as a file OpenCASCADE cannot finish reading: the input's fault
     }
-    std::cerr << "\noraclemesh: stopped: the job '" << jobPath_ << "' did not end within limits.time_limit = " << limit_
-              << " s (and " << grace_ << " s of grace) and was stuck in phase '" << phase_
-              << "': an input may be damaged (check it with Part > Check geometry or re-export it), or the sizes "
-                 "are too fine for the time limit (coarsen them or raise limits.time_limit)\n"
-              << std::flush;
+    std::ostringstream text;
+    text << "the job '" << jobPath_ << "' did not end within limits.time_limit = " << limit_ << " s (and " << grace_
+         << " s of grace) and was stuck in phase '" << phase_
+         << "': an input may be damaged (check it with Part > Check geometry or re-export it), or the sizes are too "
+            "fine for the time limit (coarsen them or raise limits.time_limit)";
+    const std::string message = text.str();
+    std::cerr << "\noraclemesh: stopped: " << message << "\n" << std::flush;
+    writeReport("stopped", message);
     std::_Exit(3);  // the stuck thread holds locks of its own: no destructors, no atexit handlers
   }
 
-  std::string jobPath_;
+  // The stuck thread has written no report; this one has only what the watchdog knows.
+  void writeReport(const std::string& status, const std::string& message) const {
+    if (reportPath_.empty()) return;
+    const nlohmann::json report = {{"status", status},
+                                   {"error", message},
+                                   {"stopped_in", phase_},
+                                   {"seconds", {{"total", limit_ + grace_}}}};
+    std::ofstream out(reportPath_);
+    out << report.dump(2) << "\n" << std::flush;
+  }
+
+  std::string jobPath_, reportPath_;
   double limit_, grace_;
   std::function<std::string(double limit, double grace, const std::string& phase)> stalledInput_;
   std::string phase_ = "load";

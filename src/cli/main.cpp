@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
     const std::string base = std::filesystem::absolute(jobPath).parent_path().string();
     const oraclemesh::JobSpec job = oraclemesh::JobSpec::fromJsonText(text.str(), base);
     oraclemesh::OpenCascadeWork::watchThisThread();
-    oraclemesh::cli::HardDeadline deadline(jobPath, job.time_limit,
+    oraclemesh::cli::HardDeadline deadline(jobPath, job.report_file, job.time_limit,
                                            [&job](double limit, double grace, const std::string& phase) {
                                              return oraclemesh::openCascadeStallMessage(job, limit, grace, phase);
                                            });

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "Error.h"
@@ -65,18 +67,37 @@ TEST(SelfCheck, PartStepAtCellSize1000IsAWarningWithChecksWarn) {
 // The default refuses it (issue 16: "part.step at cell size 1000 (now an error naming the
 // part and the fix)").
 TEST(SelfCheck, PartStepAtCellSize1000IsRefusedByDefault) {
-  const json job = coarsePartJob();
+  json job = coarsePartJob();
   ASSERT_FALSE(job.contains("checks"));
+  // The report is written all the same, with the figures the refusal rests on.
+  const std::filesystem::path report = std::filesystem::temp_directory_path() / "oraclemesh_refused_report.json";
+  std::filesystem::remove(report);
+  job["output"] = {{"report", report.string()}};
+  std::string message;
   try {
     runJob(JobSpec::fromJson(job, "."), RunControl());
     FAIL() << "a mesh missing most of the part's volume was accepted";
   } catch (const MeshCheckError& e) {
-    const std::string message = e.what();
+    message = e.what();
     EXPECT_NE(message.find("material 1 ('part')"), std::string::npos) << message;
     EXPECT_NE(message.find("less volume"), std::string::npos) << message;
     EXPECT_NE(message.find("element_order 2"), std::string::npos) << message;  // tet4 here
     EXPECT_NE(message.find("criteria.materials.\"1\""), std::string::npos) << message;
   }
+  std::ifstream in(report);
+  ASSERT_TRUE(in) << "no report written for the refused mesh";
+  const json written = json::parse(in);
+  EXPECT_EQ(written.at("status"), "failed_check");
+  EXPECT_EQ(written.at("stopped_in"), "check");
+  EXPECT_EQ(written.at("error"), message);
+  EXPECT_FALSE(written.at("self_check").at("ok").get<bool>());
+  const json& part = written.at("self_check").at("materials").at("1");
+  EXPECT_LT(part.at("mesh_volume").get<double>(), 0.9 * part.at("input_volume").get<double>());
+  EXPECT_GT(written.at("counts").at("tets").get<int64_t>(), 0);
+  for (const char* phase : {"load", "features", "thesis", "snap", "check"})
+    EXPECT_TRUE(written.at("seconds").contains(phase)) << phase << ": " << written.at("seconds").dump();
+  EXPECT_FALSE(written.at("seconds").contains("write"));
+  std::filesystem::remove(report);
 }
 
 TEST(SelfCheck, ChecksKeyIsValidated) {

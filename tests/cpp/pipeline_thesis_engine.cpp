@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -457,17 +458,34 @@ TEST(ThesisEngine, VertexLimitStopsWithLimitErrorAndPartialMesh) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "oraclemesh_thesis_vertex_limit";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  job["output"] = {{"files", {(dir / "mesh.vtu").string()}}};
+  job["output"] = {{"files", {(dir / "mesh.vtu").string()}}, {"report", (dir / "report.json").string()}};
+  std::string message;
   try {
     runJob(JobSpec::fromJson(job, ""), RunControl());
     ADD_FAILURE() << "no LimitError";
   } catch (const LimitError& e) {
-    EXPECT_NE(std::string(e.what()).find("max_vertices"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("mesh.partial.vtu"), std::string::npos) << e.what();
+    message = e.what();
+    EXPECT_NE(message.find("max_vertices"), std::string::npos) << message;
+    EXPECT_NE(message.find("mesh.partial.vtu"), std::string::npos) << message;
   }
   // The mesh so far is written for inspection, the requested file is not.
   EXPECT_GT(std::filesystem::file_size(dir / "mesh.partial.vtu"), 1000u);
   EXPECT_FALSE(std::filesystem::exists(dir / "mesh.vtu"));
+  // So is a report that says where the job stopped and what it had found by then.
+  std::ifstream in(dir / "report.json");
+  ASSERT_TRUE(in) << "no report written for the stopped job";
+  const json report = json::parse(in);
+  EXPECT_EQ(report.at("status"), "stopped");
+  EXPECT_EQ(report.at("stopped_in"), "thesis");
+  EXPECT_EQ(report.at("error"), message);
+  EXPECT_EQ(report.at("inputs").size(), 3u);
+  EXPECT_EQ(report.at("criteria").at("materials").at("1").at("cell_size"), 50);
+  EXPECT_TRUE(report.contains("small_input_angles"));
+  const json& seconds = report.at("seconds");
+  for (const char* phase : {"load", "features", "thesis", "thesis_initial_points"})
+    EXPECT_TRUE(seconds.contains(phase)) << phase << ": " << seconds.dump();
+  EXPECT_FALSE(seconds.contains("snap")) << seconds.dump();
+  EXPECT_FALSE(report.contains("counts")) << "no mesh was finished";
   std::filesystem::remove_all(dir);
 }
 

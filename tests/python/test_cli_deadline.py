@@ -3,7 +3,7 @@ the core cannot check the limit (a call looping inside OpenCASCADE on a damaged 
 watchdog ends the process a grace period after the limit (2 s for limits up to 20 s). Stuck
 inside OpenCASCADE on an input, that input is bad: exit code 2 and a message naming it and its
 file, as when reading it hangs; stuck anywhere else, exit code 3 and a message naming the job
-and the phase. The stall is the CLI's test hook ORACLEMESH_CLI_STALL=<phase> (or
+and the phase. Either way the job's output.report says how it ended. The stall is the CLI's test hook ORACLEMESH_CLI_STALL=<phase> (or
 opencascade:<phase>), which blocks the meshing thread as such a call would.
 """
 import json
@@ -27,6 +27,7 @@ def ball_job(folder):
     with open(path, "w") as f:
         json.dump({"inputs": [{"name": "ball", "sphere": {"center": [0, 0, 0], "radius": 1}, "material": 1}],
                    "element_order": 1, "limits": {"time_limit": TIME_LIMIT},
+                   "output": {"report": os.path.join(folder, "report.json")},
                    "checks": "warn"}, f)  # a coarse tet4 ball is short of volume; the deadline is tested
     return path
 
@@ -43,12 +44,19 @@ def test_stuck_job_ends_after_its_time_limit_with_exit_code_3(phase, tmp_path):
     assert "the job '%s' did not end within limits.time_limit = 2 s" % job in run.stderr, run.stderr[-1000:]
     assert "stuck in phase '%s'" % phase in run.stderr
     assert "Part > Check geometry" in run.stderr
+    with open(tmp_path / "report.json") as f:
+        report = json.load(f)
+    assert report["status"] == "stopped" and report["stopped_in"] == phase, report
+    assert report["error"] in run.stderr and "did not end within" in report["error"], report
 
 
 def test_job_that_ends_in_time_is_not_stopped(tmp_path):
     run = subprocess.run([CLI, ball_job(str(tmp_path))], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0, run.stderr[-1000:]
     assert "did not end within" not in run.stderr
+    with open(tmp_path / "report.json") as f:
+        report = json.load(f)
+    assert report["status"] == "done" and "error" not in report and report["counts"]["tets"] > 0, report
 
 
 @pytest.mark.parametrize("phase", ["initial points", "refine"])
@@ -57,7 +65,8 @@ def test_job_stuck_in_opencascade_on_an_input_ends_with_exit_code_2_naming_it(ph
     with open(job, "w") as f:
         json.dump({"inputs": [{"name": "plate", "file": PLATE, "material": 1}], "element_order": 1,
                    "criteria": {"default": {"cell_size": 5, "facet_size": 5, "facet_distance": 0.5}},
-                   "limits": {"time_limit": TIME_LIMIT}}, f)
+                   "limits": {"time_limit": TIME_LIMIT},
+                   "output": {"report": str(tmp_path / "report.json")}}, f)
     start = time.monotonic()
     run = subprocess.run([CLI, job], capture_output=True, text=True, timeout=60,
                          env=dict(os.environ, ORACLEMESH_CLI_STALL="opencascade:" + phase))
@@ -67,6 +76,10 @@ def test_job_stuck_in_opencascade_on_an_input_ends_with_exit_code_2_naming_it(ph
     assert ("OpenCASCADE did not finish working on input 'plate' (file '%s') within limits.time_limit = 2 s "
             "(and 2 s of grace), in phase '%s'" % (PLATE, phase)) in run.stderr, run.stderr[-1000:]
     assert "Part > Check geometry" in run.stderr and "internal error" not in run.stderr
+    with open(tmp_path / "report.json") as f:
+        report = json.load(f)
+    assert report["status"] == "input_error" and report["stopped_in"] == phase, report
+    assert "OpenCASCADE did not finish working on input 'plate'" in report["error"], report
     # The same job stuck outside OpenCASCADE is the job's limit, not the input's fault.
     run = subprocess.run([CLI, job], capture_output=True, text=True, timeout=60,
                          env=dict(os.environ, ORACLEMESH_CLI_STALL=phase))

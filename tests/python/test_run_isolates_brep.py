@@ -5,7 +5,8 @@ classifier or intersector, where the core cannot check its time limit) ends at
 limits.time_limit plus the grace with an oraclemesh.Error and the interpreter goes on meshing:
 an InputError naming the input and its file when the child was inside OpenCASCADE on it (the
 CLI's exit code 2), a LimitError naming the phase and the B-rep inputs when it was stuck
-elsewhere (the CLI's 3). The same job gives the same INP bytes either way.
+elsewhere (the CLI's 3). The same job gives the same INP bytes either way. In each case the
+job's output.report says how it ended, as the core's report of an unfinished job does.
 
 Real inputs on which OpenCASCADE ran long after reading are now refused while reading
 (domain/brep/ToleranceCheck): tests/data/part_long_initial_points.step (part.step with three
@@ -16,6 +17,7 @@ Crashes and endless hangs are the worker's test hooks (ORACLEMESH_WORKER_HANG / 
 phase, HANG = opencascade:phase inside OpenCASCADE on the first input): they block or kill the
 child where the core reports that phase, as a call looping or crashing inside OpenCASCADE would.
 """
+import json
 import os
 import signal
 import time
@@ -90,7 +92,7 @@ def test_same_inp_bytes_in_a_child_and_in_this_process(tmp_path):
 @pytest.mark.parametrize("phase", ["features", "refine"])
 def test_hang_after_reading_ends_at_the_time_limit_naming_the_file(phase, monkeypatch, tmp_path):
     monkeypatch.setenv("ORACLEMESH_WORKER_HANG", phase)
-    job = plate_job(limits={"time_limit": TIME_LIMIT})
+    job = plate_job(limits={"time_limit": TIME_LIMIT}, output={"report": str(tmp_path / "report.json")})
     start = time.monotonic()
     with pytest.raises(oraclemesh.LimitError) as err:
         oraclemesh.run(job)
@@ -101,22 +103,29 @@ def test_hang_after_reading_ends_at_the_time_limit_naming_the_file(phase, monkey
     assert "stuck in phase '%s'" % phase in message, message
     assert "input 'plate' (file '%s')" % os.path.abspath(PLATE) in message, message
     assert "Part > Check geometry" in message
+    assert reported(tmp_path) == {"status": "stopped", "error": message, "stopped_in": phase}
     monkeypatch.delenv("ORACLEMESH_WORKER_HANG")
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
 
+def reported(folder):
+    with open(folder / "report.json") as f:
+        return json.load(f)
+
+
 @pytest.mark.parametrize("phase", ["initial points", "refine"])
-def test_hang_inside_opencascade_after_reading_is_an_input_error_naming_the_file(phase, monkeypatch):
+def test_hang_inside_opencascade_after_reading_is_an_input_error_naming_the_file(phase, monkeypatch, tmp_path):
     monkeypatch.setenv("ORACLEMESH_WORKER_HANG", "opencascade:" + phase)
     start = time.monotonic()
     with pytest.raises(oraclemesh.InputError) as err:
-        oraclemesh.run(plate_job(limits={"time_limit": TIME_LIMIT}))
+        oraclemesh.run(plate_job(limits={"time_limit": TIME_LIMIT}, output={"report": str(tmp_path / "report.json")}))
     seconds = time.monotonic() - start
     assert TIME_LIMIT + GRACE <= seconds < TIME_LIMIT + GRACE + SLACK, seconds
     message = str(err.value)
     assert ("OpenCASCADE did not finish working on input 'plate' (file '%s') within limits.time_limit = 2 s "
             "(and 2 s of grace), in phase '%s'" % (os.path.abspath(PLATE), phase)) in message, message
     assert "Part > Check geometry" in message
+    assert reported(tmp_path) == {"status": "input_error", "error": message, "stopped_in": phase}
     monkeypatch.delenv("ORACLEMESH_WORKER_HANG")
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
@@ -135,11 +144,12 @@ def test_real_file_opencascade_ran_long_on_is_refused_while_reading():
     assert len(oraclemesh.run(plate_job(element_order=1)).tets) > 0
 
 
-def test_crash_after_reading_is_an_error_naming_the_file(monkeypatch):
+def test_crash_after_reading_is_an_error_naming_the_file(monkeypatch, tmp_path):
     monkeypatch.setenv("ORACLEMESH_WORKER_CRASH", "refine")
     with pytest.raises(oraclemesh.Error) as err:
-        oraclemesh.run(plate_job())
+        oraclemesh.run(plate_job(output={"report": str(tmp_path / "report.json")}))
     message = str(err.value)
+    assert reported(tmp_path) == {"status": "error", "error": message, "stopped_in": "refine"}
     assert "crashed" in message and "signal %d" % signal.SIGSEGV in message, message
     assert "in phase 'refine'" in message and "plate_200x20x5.brep" in message, message
     monkeypatch.delenv("ORACLEMESH_WORKER_CRASH")

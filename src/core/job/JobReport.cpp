@@ -420,6 +420,52 @@ json reportJson(const JobReport& r) {
                                {"kept_joined", keptJoined}};
   report["warnings"] = r.warnings;
   report["seconds"] = r.seconds;
+  report["status"] = "done";
+  return report;
+}
+
+namespace {
+
+const char* jobEndName(JobEnd end) {
+  switch (end) {
+    case JobEnd::Stopped: return "stopped";
+    case JobEnd::Cancelled: return "cancelled";
+    case JobEnd::InputError: return "input_error";
+    case JobEnd::FailedCheck: return "failed_check";
+    case JobEnd::Error: break;
+  }
+  return "error";
+}
+
+}  // namespace
+
+json unfinishedReportJson(const JobReport& r, const std::map<std::string, double>& seconds, JobEnd end,
+                          const std::string& message, const std::string& phase) {
+  json report;
+  if (end == JobEnd::FailedCheck) {
+    report = reportJson(r);
+  } else {
+    report["engine"] = engineName(r.engine);
+    report["version"] = r.version;
+    report["element_order"] = r.element_order;
+    // report.inputs is filled last in the load phase, after the criteria and gaps it names.
+    if (seconds.count("load") && !r.inputs.empty() && phase != "load") {
+      report["inputs"] = inputsJson(r.inputs);
+      report["bbox_diagonal"] = r.bbox_diagonal;
+      report["contact_tolerance"] = {{"value", r.contact_tolerance.value}, {"from", r.contact_tolerance.from}};
+      report["criteria"] = criteriaReportJson(r);
+    }
+    if (seconds.count("features") && phase != "features") {
+      report["features"] = featuresJson(r.features, r.engine_run.protecting_ball_vertices);
+      report["small_input_angles"] = smallInputAnglesJson(r.small_input_angles);
+      report["small_input_angle_limit_deg"] = r.small_input_angle_limit_deg;
+    }
+    report["warnings"] = r.warnings;
+  }
+  report["seconds"] = seconds;
+  report["status"] = jobEndName(end);
+  report["error"] = message;
+  report["stopped_in"] = phase;
   return report;
 }
 

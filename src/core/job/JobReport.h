@@ -139,7 +139,26 @@ struct JobReport {
 // inverted tets, a failed conformity check.
 void addMeshWarnings(JobReport& report);
 
+// The report of a finished job ("status": "done").
 nlohmann::json reportJson(const JobReport& report);
+
+// How a job ended early; the report's "status".
+enum class JobEnd {
+  Stopped,      // "stopped": a limit (time, vertices, memory)
+  Cancelled,    // "cancelled"
+  InputError,   // "input_error": the job or an input is unusable
+  FailedCheck,  // "failed_check": the mesh was made and the self-check refused it
+  Error,        // "error": anything else
+};
+
+// The report of a job that ended early, written to output.report all the same so that the
+// user sees where the time went and what was found: the status, the error message, the phase
+// it ended in ("stopped_in", as report.seconds names phases), the seconds per phase up to
+// there, the warnings, and what the finished phases filled in (inputs, criteria and gaps
+// after "load", features and small input angles after "features"). A failed check has the
+// whole report.
+nlohmann::json unfinishedReportJson(const JobReport& report, const std::map<std::string, double>& seconds, JobEnd end,
+                                    const std::string& message, const std::string& phase);
 
 // Writes report.dump(2) to `path`; Error when the file cannot be written.
 void writeReportFile(const std::string& path, const nlohmann::json& report);

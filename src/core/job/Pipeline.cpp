@@ -1,6 +1,8 @@
 #include "job/Pipeline.h"
 
 #include <algorithm>
+#include <exception>
+#include <new>
 #include <string>
 #include <utility>
 
@@ -35,14 +37,18 @@ namespace oraclemesh {
 
 const char* version() { return ORACLEMESH_VERSION; }
 
-JobResult runJob(const JobSpec& job, const RunControl& control) {
-  PhaseClock clock;
-  JobReport report;
+namespace {
+
+// The phases of a job, in order. `phase` follows them (the names report.seconds books them
+// under), so that a job ending with an error can say where.
+JobResult runPhases(const JobSpec& job, const RunControl& control, PhaseClock& clock, JobReport& report,
+                    std::string& phase) {
   report.version = version();
   report.engine = job.engine;
   report.material_assignment = job.material_assignment;
   report.element_order = job.element_order;
 
+  phase = "load";
   control.report("load", 0);
   LoadedInputs inputs = loadInputs(job, control);
   report.warnings = std::move(inputs.warnings);
@@ -66,6 +72,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.interfaces = resolveInterfaces(job.interfaces, names);
   clock.finish("load");
 
+  phase = "features";
   control.report("features", 0);
   const AssembledFeatures features = assembleFeatures(job, oracle, criteria, control, report.warnings);
   report.features = describeFeatures(job, features);
@@ -74,6 +81,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("features");
   control.checkpoint();
 
+  phase = job.engine == Engine::Thesis ? "thesis" : "mesh3";
   EngineRun run = [&] {
     try {
       return job.engine == Engine::Thesis
@@ -86,6 +94,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   TetMesh& mesh = run.mesh;
   report.engine_run = std::move(run.report);
 
+  phase = "snap";
   control.report("snap", 0);
   mesh.boundary = extractBoundary(mesh);
   // What the snap costs in quality (each engine leaves some boundary vertices off the faces).
@@ -95,6 +104,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("snap");
 
   // After the snap (which moves vertices) and before mid nodes are placed on the final topology.
+  phase = "improve";
   control.report("improve", 0);
   const OracleBoundaryPlacement placement(mesh, oracle, features.curves, snap);
   ImprovementOptions improvement;
@@ -116,11 +126,13 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   clock.finish("improve");
 
   if (job.element_order == 2) {
+    phase = "second_order";
     control.report("second order", 0);
     report.second_order_straight_fallbacks = makeSecondOrderOnGeometry(mesh, oracle, features.curves, snap.vertex_entry);
     clock.finish("second_order");
   }
 
+  phase = "interfaces";
   // Surfaces from the shared-node mesh, both sides of every pair that is not bonded; the split
   // keeps tet indices, so their faces stay valid after it.
   std::vector<MeshSurface> surfaces = meshSurfaces(mesh, report.interfaces);
@@ -130,6 +142,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   for (std::string& warning : keptJoinedWarnings(report.interfaces, report.interface_split, names))
     report.warnings.push_back(std::move(warning));
   report.interface_constraints = interfaceConstraints(mesh, surfaces, names, report.interfaces);
+  clock.finish("interfaces");
 
   // The final checks. A feature edge that is no tet edge is an error, never a mesh returned.
   requireFeatureEdgesInTets(mesh);
@@ -139,6 +152,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   report.surfaces = describeSurfaces(surfaces, names);
   addMeshWarnings(report);
 
+  phase = "check";
   control.report("check", 0);
   report.checks = job.checks;
   // Nodes the snap had to leave off the CAD are that far from their part where it touches
@@ -147,6 +161,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
                                              report.contact_tolerance.value, snap.distance_kept,
                                              criteria.bonded_wedges.get());
   clock.finish("check");
+  report.seconds = clock.seconds;
   if (!report.self_check.problems.empty()) {
     if (job.checks == MeshCheckMode::Error) {
       std::string message = "the mesh does not represent the model";
@@ -156,6 +171,7 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
     for (const std::string& problem : report.self_check.problems) report.warnings.push_back(problem);
   }
 
+  phase = "write";
   control.report("write", 0);
   for (const std::string& path : job.output_files) writeMeshFile(path, mesh, names, surfaces, report.interfaces);
   clock.finish("write");
@@ -168,6 +184,50 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   result.surfaces = std::move(surfaces);
   for (const SurfaceReport& s : report.surfaces) result.surface_names.push_back(s.name);
   return result;
+}
+
+// output.report for a job that ended with an error: how it ended and what the phases before
+// found (JobReport.h, unfinishedReportJson). The error is what the caller must get, so a
+// report that cannot be written is left unwritten.
+void writeUnfinishedReport(const JobSpec& job, const JobReport& report, PhaseClock& clock, const std::string& phase,
+                           JobEnd end, const std::string& message) {
+  if (job.report_file.empty()) return;
+  try {
+    const bool checked = end == JobEnd::FailedCheck;
+    if (!checked) clock.finish(phase);
+    writeReportFile(job.report_file, unfinishedReportJson(report, clock.seconds, end, message, phase));
+  } catch (const std::exception&) {
+  }
+}
+
+}  // namespace
+
+JobResult runJob(const JobSpec& job, const RunControl& control) {
+  PhaseClock clock;
+  JobReport report;
+  std::string phase;
+  try {
+    return runPhases(job, control, clock, report, phase);
+  } catch (const MeshCheckError& e) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::FailedCheck, e.what());
+    throw;
+  } catch (const InputError& e) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::InputError, e.what());
+    throw;
+  } catch (const LimitError& e) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::Stopped, e.what());
+    throw;
+  } catch (const Cancelled& e) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::Cancelled, e.what());
+    throw;
+  } catch (const std::bad_alloc&) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::Stopped,
+                          "out of memory: coarsen the sizes (criteria) or lower limits.max_vertices");
+    throw;
+  } catch (const std::exception& e) {
+    writeUnfinishedReport(job, report, clock, phase, JobEnd::Error, e.what());
+    throw;
+  }
 }
 
 }  // namespace oraclemesh

@@ -20,7 +20,9 @@ struct JobResult {
   std::vector<std::string> surface_names;  // one per surface
 };
 
-// Throws InputError (bad job or input), LimitError (vertex / time limit) or Cancelled.
+// Throws InputError (bad job or input; MeshCheckError, a mesh the self-check refused), LimitError
+// (vertex / time limit) or Cancelled. output.report is written either way: "status" says how the
+// job ended (JobReport.h).
 JobResult runJob(const JobSpec& job, const RunControl& control);
 
 // The library version reported in every report.

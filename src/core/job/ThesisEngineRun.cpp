@@ -81,6 +81,8 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
   try {
     result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
   } catch (const LimitError& e) {
+    // The engine's phases so far go into the report written for the stopped job.
+    for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
     throw LimitError(e.what() + writePartialMesh(job, stats.partial));
   }
   clock.finish("thesis");  // the engine's total; its phases are reported beside it

@@ -112,16 +112,20 @@ TetMesh RuleSetTRefiner::run() {
     stats_.seconds[name] += std::chrono::duration<double>(now - t0).count();
     t0 = now;
   };
+  const char* current = "initial_points";  // booked also when a limit stops it
   try {
     control_.report("initial points", 0);
     insertInitialPoints();
-    phase("initial_points");
+    phase(current);
+    current = "refine";
     control_.report("refine", 0);
     refine();
-    phase("refine");
+    phase(current);
+    current = "sliver_rule";
     refineSlivers();
-    phase("sliver_rule");
+    phase(current);
   } catch (const LimitError&) {
+    phase(current);
     stats_.partial = extract();
     throw;
   }

@@ -257,8 +257,9 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         brep_inputs = _opencascade_inputs(job)
         job = with_image_files(job, tmp)
         job_path = os.path.join(tmp, "job.json")
+        absolute_job = _with_absolute_paths(job, base_directory or os.getcwd())
         with open(job_path, "w") as f:
-            json.dump(_with_absolute_paths(job, base_directory or os.getcwd()), f)
+            json.dump(absolute_job, f)
         result_path = os.path.join(tmp, "result.npz")
         package_parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
@@ -302,6 +303,8 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         stderr = stderr_file.read()
         stderr_file.close()
         if ended.cancelled:
+            if code < 0:
+                _report_killed_child(absolute_job, "cancelled", "meshing was cancelled", phase)
             raise Cancelled("meshing was cancelled")
         if code == 0:
             with np_load(result_path) as arrays:
@@ -316,14 +319,34 @@ def run_isolated(job, progress=None, base_directory=None, cancel=None, environme
         suspects = ("; OpenCASCADE works on %s: check %s with Part > Check geometry or re-export it"
                     % (", ".join(brep_inputs), "it" if len(brep_inputs) == 1 else "them")) if brep_inputs else ""
         if ended.past_deadline:
-            raise LimitError("the job did not end within limits.time_limit = %g s (and %g s of grace) and was "
-                             "stuck in phase '%s'; its process was stopped%s, or coarsen the sizes or raise "
-                             "limits.time_limit" % (limit, grace, phase or "(none reported yet)",
-                                                    suspects or ": an input may be damaged"))
+            message = ("the job did not end within limits.time_limit = %g s (and %g s of grace) and was "
+                       "stuck in phase '%s'; its process was stopped%s, or coarsen the sizes or raise "
+                       "limits.time_limit" % (limit, grace, phase or "(none reported yet)",
+                                              suspects or ": an input may be damaged"))
+            _report_killed_child(absolute_job, "stopped", message, phase)
+            raise LimitError(message)
         how = ("was killed by signal %d" % -code) if code < 0 else ("exited with code %d" % code)
-        raise Error("the OracleMesh core crashed on this job in phase '%s' (its process %s); the calling "
-                    "program is unaffected%s. If the inputs are sound, please report it with the job and "
-                    "this output:\n%s" % (phase or "(none reported yet)", how, suspects, stderr[-2000:]))
+        message = ("the OracleMesh core crashed on this job in phase '%s' (its process %s); the calling "
+                   "program is unaffected%s. If the inputs are sound, please report it with the job and "
+                   "this output:\n%s" % (phase or "(none reported yet)", how, suspects, stderr[-2000:]))
+        _report_killed_child(absolute_job, "error", message, phase)
+        raise Error(message)
+
+
+def _report_killed_child(job, status, message, phase):
+    """output.report for a child that was stopped or crashed before the core could write it:
+    how the job ended and the phase it last reported, as the core's own report of an
+    unfinished job (src/README.md, The report). The error is what the caller must get, so a
+    report that cannot be written is left unwritten."""
+    output = job.get("output") if isinstance(job, dict) else None
+    path = output.get("report") if isinstance(output, dict) else None
+    if not isinstance(path, str):
+        return
+    try:
+        with open(path, "w") as f:
+            json.dump({"status": status, "error": message, "stopped_in": phase}, f, indent=2)
+    except OSError:
+        pass
 
 
 class _ChildEnder:

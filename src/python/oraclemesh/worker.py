@@ -64,6 +64,7 @@ def judge_opencascade_stall(job_path, result_path, limit, grace, started, phase)
     if message:
         with open(result_path + ".error.json", "w") as f:
             json.dump({"type": "InputError", "message": message}, f)
+        oraclemesh._report_killed_child(json.loads(text), "input_error", message, phase[0])
         os._exit(2)  # the meshing thread cannot be stopped: no clean exit
 
 
