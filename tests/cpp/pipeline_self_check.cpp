@@ -276,10 +276,11 @@ TEST(SelfCheck, TouchingPartsAreNotJoinedAcrossAGap) {
 // A ball of radius 5 resting on a 2 mm plate touches it at one point; beside it the empty space
 // narrows to nothing (the gap at distance d from the contact is d^2 / 10). Keeping all of it
 // open asked for sizes down to the contact tolerance and ended in minutes with the parts
-// reported joined. At the defaults the wedge is bonded where it is narrower than a tenth of the
-// size there (sizing/BondedWedges.h), and the mesh is checked against that: both parts keep
-// their volume, the ball touches the plate over a small patch around the contact point only,
-// and the rest of the gap stays open.
+// reported joined. At the defaults the wedge is bonded where it is narrower than a fraction of
+// the size there (sizing/BondedWedges.h), here out to where the faces stop facing each other
+// (15 degrees: a gap of R (1 - cos 15 degrees)), and the mesh is checked against that: both
+// parts keep their volume, no gap size is left beside the contact, and the ball touches the
+// plate over a small patch around the contact point only.
 TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
   const double radius = 5;
   const TopoDS_Shape ball = BRepPrimAPI_MakeSphere(gp_Pnt(20, 10, 2 + radius), radius).Shape();
@@ -298,8 +299,10 @@ TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
   const json& wedges = result.report.at("criteria").at("gap_sizes").at("bonded_wedges");
   ASSERT_EQ(wedges.size(), 1u) << wedges.dump(1);
   const double widest = wedges[0].at("widest").get<double>();
-  EXPECT_GT(widest, 0);
-  EXPECT_LT(widest, 0.1 * radius);
+  const double facingEnds = radius * (1 - std::cos(15 * M_PI / 180));
+  EXPECT_NEAR(widest, facingEnds, 0.1 * facingEnds);
+  EXPECT_TRUE(result.report.at("criteria").at("gap_sizes").at("gaps").empty())
+      << result.report.at("criteria").at("gap_sizes").dump(1);
   // The bonded patch: where the gap is under `widest`, a disc of radius sqrt(2 R widest); the
   // mesh's interface (faces between ball and plate) lies within it, plus a triangle's reach.
   ASSERT_EQ(result.report.at("interfaces").size(), 1u) << result.report.at("interfaces").dump(1);
@@ -313,7 +316,9 @@ TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
 // a line and its end circles touch the plate's top edges tangentially, curves meeting at
 // 0 degrees where neither has a vertex. Rule Set T split both curves there without end (the
 // job never finished) until Rule Set Q split them at the touching point (RuleSetQ.ACircle*).
-// At the defaults, with sharp edges, the job ends with both parts whole and their volumes.
+// At the defaults, with sharp edges, the job ends with both parts whole and their volumes, and
+// the wedge beside the line is bonded out to where the faces stop facing each other (15
+// degrees): no gap sizes along it (they made a rod 40 long 6 times the tets).
 TEST(SelfCheck, ARodLyingOnAPlateMeshesAtTheDefaultsWithItsSharpEdges) {
   const double radius = 3, length = 10;
   const TopoDS_Shape rod =
@@ -335,7 +340,11 @@ TEST(SelfCheck, ARodLyingOnAPlateMeshesAtTheDefaultsWithItsSharpEdges) {
   EXPECT_EQ(check.at("materials").at("2").at("components").get<int>(), 1);
   // Where the end circles touch the plate's edges, both curves end at one shared vertex.
   EXPECT_GE(result.report.at("features").at("star_vertices").get<int>(), 2) << result.report.at("features").dump(1);
-  ASSERT_EQ(result.report.at("criteria").at("gap_sizes").at("bonded_wedges").size(), 1u);
+  const json& gapSizes = result.report.at("criteria").at("gap_sizes");
+  ASSERT_EQ(gapSizes.at("bonded_wedges").size(), 1u);
+  const double facingEnds = radius * (1 - std::cos(15 * M_PI / 180));
+  EXPECT_NEAR(gapSizes.at("bonded_wedges")[0].at("widest").get<double>(), facingEnds, 0.1 * facingEnds);
+  EXPECT_TRUE(gapSizes.at("gaps").empty()) << gapSizes.dump(1);
 }
 
 }  // namespace

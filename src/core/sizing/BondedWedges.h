@@ -3,9 +3,13 @@
 // on a face) the empty space beside their contact is a wedge that narrows to nothing. Keeping
 // it open to where it is as narrow as the contact tolerance would ask for sizes without bound
 // (a gap of width w asks for facets of w). Such a wedge is bonded where it is narrower than a
-// fraction of the size the geometry asks there and closes within that size: one element or so
-// of the mesh, as a contact line of any mesh bonds. Gaps between faces that face each other
-// (a clearance, two boxes apart) are no wedge and are kept open at every width.
+// fraction of the size the geometry asks there and closes within a few such sizes, as a
+// contact line of any mesh bonds over an element or so. Beyond the line where the faces stop
+// facing each other (15 degrees, GeometrySizes.cpp) a wedge is no gap anyway, so for a tangent
+// contact of the usual proportions all of the gap is bonded; the space filled is at most about
+// 0.2 % of a cylinder's volume on a plane (x^3 / 3R per unit length, x = R sin 15 degrees,
+// the same at every radius). Gaps between faces that face each other (a clearance, two boxes
+// apart) are no wedge and are kept open at every width.
 //
 // BondedWedges holds the places found bonded so (GapRays in sizing/GeometrySizes.cpp): the
 // refinement's contact criteria, Rule Set T's terminator and the self-check's joined-parts
@@ -19,9 +23,9 @@
 namespace oraclemesh {
 
 // A wedge is bonded where it is narrower than this fraction of the local size ...
-constexpr double kWedgeBondPerSize = 0.1;
+constexpr double kWedgeBondPerSize = 0.3;
 // ... and closes (its width over the angle between its faces) within this many local sizes.
-constexpr double kWedgeClosingPerSize = 1.0;
+constexpr double kWedgeClosingPerSize = 2.0;
 
 struct BondedWedgeSample {
   Point3 at{};         // on a face beside the contact
