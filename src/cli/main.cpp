@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     std::cerr << "\noraclemesh: " << e.what() << "\n";
     return 3;
   } catch (const std::bad_alloc&) {
-    std::cerr << "\noraclemesh: stopped: out of memory: coarsen the sizes (criteria) or lower limits.max_vertices\n";
+    std::cerr << "\noraclemesh: stopped: " << oraclemesh::kOutOfMemoryMessage << "\n";
     return 3;
   } catch (const oraclemesh::Error& e) {  // not the input's fault (a file system error, ...) but explained
     std::cerr << "\noraclemesh: error: " << e.what() << "\n";

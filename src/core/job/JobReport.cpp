@@ -448,8 +448,8 @@ json unfinishedReportJson(const JobReport& r, const std::map<std::string, double
     report["engine"] = engineName(r.engine);
     report["version"] = r.version;
     report["element_order"] = r.element_order;
-    // report.inputs is filled last in the load phase, after the criteria and gaps it names.
-    if (seconds.count("load") && !r.inputs.empty() && phase != "load") {
+    // report.inputs is filled late in the load phase, after the criteria and gaps it names.
+    if (!r.inputs.empty()) {
       report["inputs"] = inputsJson(r.inputs);
       report["bbox_diagonal"] = r.bbox_diagonal;
       report["contact_tolerance"] = {{"value", r.contact_tolerance.value}, {"from", r.contact_tolerance.from}};

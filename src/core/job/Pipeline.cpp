@@ -186,15 +186,25 @@ JobResult runPhases(const JobSpec& job, const RunControl& control, PhaseClock& c
   return result;
 }
 
+// How a job that ended with `error` ended, and the message for its report.
+std::pair<JobEnd, std::string> howItEnded(const std::exception& error) {
+  if (dynamic_cast<const MeshCheckError*>(&error)) return {JobEnd::FailedCheck, error.what()};
+  if (dynamic_cast<const InputError*>(&error)) return {JobEnd::InputError, error.what()};
+  if (dynamic_cast<const LimitError*>(&error)) return {JobEnd::Stopped, error.what()};
+  if (dynamic_cast<const Cancelled*>(&error)) return {JobEnd::Cancelled, error.what()};
+  if (dynamic_cast<const std::bad_alloc*>(&error)) return {JobEnd::Stopped, kOutOfMemoryMessage};
+  return {JobEnd::Error, error.what()};
+}
+
 // output.report for a job that ended with an error: how it ended and what the phases before
 // found (JobReport.h, unfinishedReportJson). The error is what the caller must get, so a
 // report that cannot be written is left unwritten.
 void writeUnfinishedReport(const JobSpec& job, const JobReport& report, PhaseClock& clock, const std::string& phase,
-                           JobEnd end, const std::string& message) {
+                           const std::exception& error) {
   if (job.report_file.empty()) return;
   try {
-    const bool checked = end == JobEnd::FailedCheck;
-    if (!checked) clock.finish(phase);
+    const auto [end, message] = howItEnded(error);
+    if (end != JobEnd::FailedCheck) clock.finish(phase);  // a refused mesh has its check booked
     writeReportFile(job.report_file, unfinishedReportJson(report, clock.seconds, end, message, phase));
   } catch (const std::exception&) {
   }
@@ -208,24 +218,8 @@ JobResult runJob(const JobSpec& job, const RunControl& control) {
   std::string phase;
   try {
     return runPhases(job, control, clock, report, phase);
-  } catch (const MeshCheckError& e) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::FailedCheck, e.what());
-    throw;
-  } catch (const InputError& e) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::InputError, e.what());
-    throw;
-  } catch (const LimitError& e) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::Stopped, e.what());
-    throw;
-  } catch (const Cancelled& e) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::Cancelled, e.what());
-    throw;
-  } catch (const std::bad_alloc&) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::Stopped,
-                          "out of memory: coarsen the sizes (criteria) or lower limits.max_vertices");
-    throw;
   } catch (const std::exception& e) {
-    writeUnfinishedReport(job, report, clock, phase, JobEnd::Error, e.what());
+    writeUnfinishedReport(job, report, clock, phase, e);
     throw;
   }
 }

@@ -25,6 +25,10 @@ struct JobResult {
 // job ended (JobReport.h).
 JobResult runJob(const JobSpec& job, const RunControl& control);
 
+// What the CLI and the report of a stopped job say when memory runs out.
+inline constexpr const char* kOutOfMemoryMessage =
+    "out of memory: coarsen the sizes (criteria) or lower limits.max_vertices";
+
 // The library version reported in every report.
 const char* version();
 

@@ -78,15 +78,18 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
   // after it).
   options.onto_curve = [&](int curve, const Point3& p) { return curves.ontoCurve(curve, p); };
   RuleSetTStatistics stats;
+  // The engine's phases beside its total; also those a limit stopped, for the stopped job's report.
+  const auto bookEnginePhases = [&] {
+    for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
+  };
   try {
     result.mesh = meshWithRuleSetT(oracle, features, options, control, &stats);
   } catch (const LimitError& e) {
-    // The engine's phases so far go into the report written for the stopped job.
-    for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
+    bookEnginePhases();
     throw LimitError(e.what() + writePartialMesh(job, stats.partial));
   }
-  clock.finish("thesis");  // the engine's total; its phases are reported beside it
-  for (const auto& [phase, sec] : stats.seconds) clock.seconds["thesis_" + phase] = sec;
+  clock.finish("thesis");
+  bookEnginePhases();
   result.report.seeds_on_boundary = stats.initial_points;
   if (job.planar_faces && stats.planar.missing > 0)
     warnings.push_back(std::to_string(stats.planar.missing) +
