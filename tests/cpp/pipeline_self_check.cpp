@@ -2,9 +2,11 @@
 // figure that does not come from the mesh, and each part against falling apart into pieces.
 // The reference figures here are independent of the oracle: OpenCASCADE's GProp volume of the
 // STEP file, the closed-form volume of two overlapping spheres.
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <gp_Trsf.hxx>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -223,6 +225,7 @@ TEST(SelfCheck, PartsJoinedAcrossAGapAreReported) {
   // Every face between them crosses the gap: none lies where the cubes touch, for they do not.
   EXPECT_NEAR(joined.interface_area, 100.0, 1e-9);
   EXPECT_NEAR(joined.joined_area, joined.interface_area, 1e-9);
+  EXPECT_NEAR(joined.beyond_contact_area, joined.interface_area, 1e-9);
   const auto problem = std::find_if(check.problems.begin(), check.problems.end(), [](const std::string& p) {
     return p.find("materials 1 ('lower') and 2 ('upper') are joined across a gap") != std::string::npos;
   });
@@ -263,6 +266,30 @@ TEST(SelfCheck, ANodeLeftOffTheCadWidensTheGapTestAtThatNodeOnly) {
   EXPECT_TRUE(findPartsJoinedAcrossGaps(mesh, b.oracle, 1e-9, kept).empty());
 }
 
+// The mesh of BridgedCubes against an upper cube tilted by 10 degrees about its bottom edge
+// at y = 0 (that edge lying on the lower cube's top): over the mesh's interface, the lower
+// cube's top square, the gap is y sin 10 degrees, linear, so the part of the square beyond a
+// tolerance t is exactly 10 (10 - t / sin 10 degrees).
+TEST(SelfCheck, TheInterfaceBeyondTheContactToleranceIsMeasured) {
+  const double tilt = 10 * M_PI / 180;
+  gp_Trsf turn;
+  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 10), gp_Dir(1, 0, 0)), tilt);
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape upper =
+      BRepBuilderAPI_Transform(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 10), 10, 10, 10).Shape(), turn, true).Shape();
+  const HierarchicalOracle oracle({{std::make_shared<BrepSolid>(lower, "lower"), Role::Material, 1},
+                                   {std::make_shared<BrepSolid>(upper, "upper"), Role::Material, 2}});
+  const TetMesh mesh = bridgedCubes().mesh;
+  for (double tolerance : {0.2, 0.5, 1.5}) {
+    const std::vector<JoinedAcrossGap> pairs = measureInterfaceGaps(mesh, oracle, tolerance);
+    ASSERT_EQ(pairs.size(), 1u);
+    EXPECT_NEAR(pairs[0].interface_area, 100.0, 1e-9);
+    EXPECT_NEAR(pairs[0].beyond_contact_area, 10 * (10 - tolerance / std::sin(tilt)), 1e-6) << "tolerance " << tolerance;
+    // Every face has a vertex on the edge where they touch: nothing is joined across a gap.
+    EXPECT_EQ(pairs[0].joined_area, 0.0);
+  }
+}
+
 // Cubes that touch share their interface exactly: every node on it lies on both.
 TEST(SelfCheck, TouchingPartsAreNotJoinedAcrossAGap) {
   const JobResult result = runJob(JobSpec::fromJson(twoBoxesJob(0, 5), "."), RunControl());
@@ -271,6 +298,7 @@ TEST(SelfCheck, TouchingPartsAreNotJoinedAcrossAGap) {
   EXPECT_TRUE(check.at("ok").get<bool>()) << check.dump(1);
   ASSERT_EQ(result.report.at("interfaces").size(), 1u);
   EXPECT_NEAR(result.report.at("interfaces")[0].at("area").get<double>(), 100.0, 1e-9);
+  EXPECT_EQ(result.report.at("interfaces")[0].at("beyond_contact_area").get<double>(), 0.0);
 }
 
 // A ball of radius 5 resting on a 2 mm plate touches it at one point; beside it the empty space
@@ -310,6 +338,13 @@ TEST(SelfCheck, ABallRestingOnAPlateIsBondedOnlyBesideItsContactAtTheDefaults) {
   const double area = result.report.at("interfaces")[0].at("area").get<double>();
   EXPECT_GT(area, 0);
   EXPECT_LT(area, 4 * patch) << "bonded patch of the wedge " << patch;
+  // The ball touches at a point: all of the patch but a disc of radius sqrt(2 R tolerance)
+  // (0.02 mm^2 here) is wider than the contact tolerance, and the report says so.
+  const double tolerance = result.report.at("contact_tolerance").at("value").get<double>();
+  const double touching = M_PI * 2 * radius * tolerance;
+  const double beyond = result.report.at("interfaces")[0].at("beyond_contact_area").get<double>();
+  EXPECT_LE(beyond, area);
+  EXPECT_GT(beyond, area - 2 * touching - 0.01 * area) << "interface " << area;
 }
 
 // A rod of radius 3 lying on a plate as long as it: the rod touches the plate's top face along

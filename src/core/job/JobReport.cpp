@@ -306,6 +306,9 @@ json surfacesJson(const JobReport& r, const MaterialNames& names, bool interface
       for (const SurfaceReport& back : r.surfaces)
         if (back.material == s.other_material && back.other_material == s.material) sides.push_back(back.name);
       entry["surfaces"] = sides;
+      for (const JoinedAcrossGap& g : r.self_check.interface_gaps)
+        if (g.material == s.material && g.other_material == s.other_material)
+          entry["beyond_contact_area"] = g.beyond_contact_area;
       for (const InterfaceConstraint& c : r.interface_constraints)
         if (c.material == s.material && c.other_material == s.other_material) {
           entry["constraint"] = c.name;

@@ -1,6 +1,7 @@
 #include "job/JoinedParts.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -37,11 +38,23 @@ class MaterialDistances {
   std::unordered_map<std::pair<int64_t, int>, double, PairHash> cache_;
 };
 
+// The fraction of a triangle where a function linear over it, with values d[0..2] at its
+// corners, exceeds `level` (all of it when a corner has no part within reach: infinity).
+double fractionAbove(std::array<double, 3> d, double level) {
+  std::sort(d.begin(), d.end());
+  const double low = d[0], mid = d[1], high = d[2];
+  if (!std::isfinite(high)) return 1;
+  if (level >= high) return 0;
+  if (level <= low) return 1;
+  if (level <= mid) return 1 - (level - low) * (level - low) / ((mid - low) * (high - low));
+  return (high - level) * (high - level) / ((high - low) * (high - mid));
+}
+
 }  // namespace
 
-std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
-                                                       double tolerance, const std::vector<double>& distanceKeptOffCad,
-                                                       const BondedWedges* bondedWedges) {
+std::vector<JoinedAcrossGap> measureInterfaceGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
+                                                  double tolerance, const std::vector<double>& distanceKeptOffCad,
+                                                  const BondedWedges* bondedWedges) {
   // A gap wider than the model is no gap of two parts; the reach only bounds the projections.
   MaterialDistances distanceTo(oracle, oracle.diagonal());
   std::map<std::pair<int, int>, JoinedAcrossGap> pairs;
@@ -58,10 +71,13 @@ std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, cons
     // a chord away from the CAD's) and still one on it.
     double faceGap = std::numeric_limits<double>::infinity();
     double beyondAllowed = std::numeric_limits<double>::infinity();  // the least over the face's nodes
+    std::array<double, 3> gaps{};
     Point3 at{};
-    for (int64_t v : t.v) {
+    for (int k = 0; k < 3; ++k) {
+      const int64_t v = t.v[k];
       const double kept = static_cast<size_t>(v) < distanceKeptOffCad.size() ? distanceKeptOffCad[v] : 0.0;
       const double d = std::max(distanceTo(mesh.points[v], v, a), distanceTo(mesh.points[v], v, b)) - kept;
+      gaps[k] = d;
       const double allowed = bondedWedges ? std::max(tolerance, bondedWedges->widthAt(mesh.points[v])) : tolerance;
       beyondAllowed = std::min(beyondAllowed, d - allowed);
       if (d < faceGap) {
@@ -69,6 +85,7 @@ std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, cons
         at = mesh.points[v];
       }
     }
+    pair.beyond_contact_area += area * fractionAbove(gaps, tolerance);
     if (beyondAllowed <= 0) continue;
     pair.joined_area += area;
     if (faceGap > pair.widest_gap) {
@@ -76,9 +93,17 @@ std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, cons
       pair.widest_at = at;
     }
   }
-  std::vector<JoinedAcrossGap> joined;
-  for (const auto& [key, pair] : pairs)
-    if (pair.joined_area > 0) joined.push_back(pair);
+  std::vector<JoinedAcrossGap> measured;
+  for (const auto& [key, pair] : pairs) measured.push_back(pair);
+  return measured;
+}
+
+std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
+                                                       double tolerance, const std::vector<double>& distanceKeptOffCad,
+                                                       const BondedWedges* bondedWedges) {
+  std::vector<JoinedAcrossGap> joined = measureInterfaceGaps(mesh, oracle, tolerance, distanceKeptOffCad, bondedWedges);
+  joined.erase(std::remove_if(joined.begin(), joined.end(), [](const JoinedAcrossGap& j) { return j.joined_area <= 0; }),
+               joined.end());
   return joined;
 }
 

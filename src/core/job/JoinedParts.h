@@ -19,19 +19,28 @@ struct JoinedAcrossGap {
   int material = 0;            // the smaller id of the two
   int other_material = 0;
   double interface_area = 0;   // of all mesh faces between the two materials
+  // Of that, where the parts lie farther apart than the tolerance (the gap interpolated
+  // linearly over each face from its vertices): the band the mesh bonds beside a tangent
+  // contact (BondedWedges.h) plus any joined area. The rest is where the parts touch.
+  double beyond_contact_area = 0;
   double joined_area = 0;      // of those with no vertex within the tolerance of both parts
   double widest_gap = 0;       // the largest over those faces of their vertices' smallest distance
                                // from the farther part: about the gap's width
   Point3 widest_at{};          // that vertex
 };
 
-// One entry per pair of materials sharing mesh faces none of whose vertices is within
+// One entry per pair of materials sharing mesh faces, sorted by material pair (measureInterfaceGaps);
+// findPartsJoinedAcrossGaps keeps the pairs with faces none of whose vertices is within
 // `tolerance` of the closures of both materials' inputs (inside an input, or on its boundary
-// to `tolerance`); sorted by material pair. `distanceKeptOffCad` (empty, or one per vertex):
+// to `tolerance`). `distanceKeptOffCad` (empty, or one per vertex):
 // how far the snap left each vertex off the CAD, allowed on top of `tolerance` at that vertex
 // alone (one node left off elsewhere must not hide a gap bridged here). `bondedWedges` (may be
 // null): a wedge bonded beside a tangent contact allows its width at the vertices within its
 // reach, as the tolerance does everywhere.
+std::vector<JoinedAcrossGap> measureInterfaceGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
+                                                  double tolerance,
+                                                  const std::vector<double>& distanceKeptOffCad = {},
+                                                  const BondedWedges* bondedWedges = nullptr);
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                                        double tolerance,
                                                        const std::vector<double>& distanceKeptOffCad = {},

@@ -243,8 +243,10 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
                                std::to_string(c.max_components) + " solid(s) in the input: parts of it are thinner " +
                                "than its elements; " + finer);
   }
-  check.joined = findPartsJoinedAcrossGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad,
-                                           bonded_wedges);
+  check.interface_gaps = measureInterfaceGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad,
+                                              bonded_wedges);
+  for (const JoinedAcrossGap& j : check.interface_gaps)
+    if (j.joined_area > 0) check.joined.push_back(j);
   for (const JoinedAcrossGap& j : check.joined) {
     if (j.joined_area <= check.volume_tolerance * j.interface_area) continue;
     std::ostringstream message;

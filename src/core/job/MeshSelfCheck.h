@@ -38,7 +38,8 @@ struct MeshSelfCheck {
   std::map<int, MaterialVolumeCheck> materials;
   // A vertex between two parts this far from either is across a gap (model units).
   double contact_tolerance = 0;
-  std::vector<JoinedAcrossGap> joined;  // pairs of parts the mesh joins where they do not touch
+  std::vector<JoinedAcrossGap> interface_gaps;  // every pair of parts sharing mesh faces
+  std::vector<JoinedAcrossGap> joined;  // of those, the pairs the mesh joins where they do not touch
   std::vector<std::string> problems;  // one sentence each: the part, the figure, the fix
 };
 
@@ -46,7 +47,7 @@ struct MeshSelfCheck {
 // (Source::volume; OpenCASCADE's for B-reps); where a higher-priority entry or a cut may
 // overlap one, the overlap is measured along jittered rays through the boxes they share, cut
 // exactly by the sources' crossings, and subtracted, with its error bar. `volume_per_material` is the mesh's (QualityReport).
-// Parts joined across a gap (findPartsJoinedAcrossGaps with `contact_tolerance`; 0 = 1e-6 of
+// Parts joined across a gap (measureInterfaceGaps with `contact_tolerance`; 0 = 1e-6 of
 // the diagonal; the wedges the sizing bonded, `bonded_wedges`, may be null) are a problem when
 // more than volume_tolerance of their interface is joined.
 MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOracle& oracle,

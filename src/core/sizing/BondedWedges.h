@@ -43,7 +43,6 @@ class BondedWedges {
   double widthAt(const Point3& p) const;
 
   const std::vector<BondedWedgeSample>& samples() const { return samples_; }
-  bool empty() const { return samples_.empty(); }
 
  private:
   struct CellKey {

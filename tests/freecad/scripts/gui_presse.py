@@ -32,7 +32,7 @@ FINENESS = os.environ.get("PRESSE_FINENESS", "very coarse")  # the macro's
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from gui_script import main, pump, step  # noqa: E402
-from fc_harness import face_group_area, mesh_facts  # noqa: E402
+from fc_harness import common_face_areas, face_group_area, mesh_facts  # noqa: E402
 
 
 def mesh_fingerprint(mesh_obj):
@@ -54,28 +54,17 @@ def groups(mesh_obj):
 
 
 def interface_areas(mesh_obj, report, job):
-    """{interface name: (mesh area, OpenCASCADE area)}: the second is the area of the
-    higher-priority part's faces that lie inside or on the other part (the core gives an
-    overlap to the part listed first, so its boundary there is the interface), from the very
-    B-rep the job hands the core. "On" is to the job's contact tolerance (a fuzzy common):
-    faces closer than it are touching, and bonded in the mesh."""
-    import Part
+    """{interface name: (mesh area, OpenCASCADE area, the report's beyond_contact_area)}: the
+    mesh's Face group Interface_<a>_<b> (curved tri6) against the common faces
+    (fc_harness.common_face_areas)."""
     fm = mesh_obj.FemMesh
     face_groups = {fm.getGroupName(g): g for g in fm.Groups if fm.getGroupElementType(g) == "Face"}
-    shapes = {}
-    for entry in job["inputs"]:
-        shape = Part.Shape()
-        shape.importBrepFromString(entry["brep"])
-        shapes[entry["name"]] = shape
-    tolerance = report["contact_tolerance"]["value"]
+    occt = common_face_areas(job, report)
     areas = {}
     for interface in report["interfaces"]:
-        high, low = interface["parts"]  # material ids follow the priority: the first is higher
-        box = shapes[low].BoundBox
-        box.enlarge(1e-3)
-        occt = sum(f.common(shapes[low], tolerance).Area for f in shapes[high].Faces if box.intersect(f.BoundBox))
         group = face_groups.get(interface["name"])
-        areas[interface["name"]] = (face_group_area(fm, group) if group is not None else None, occt)
+        areas[interface["name"]] = (face_group_area(fm, group) if group is not None else None,
+                                    occt[interface["name"]], interface.get("beyond_contact_area"))
     return areas
 
 
