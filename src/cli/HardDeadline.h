@@ -15,6 +15,7 @@
 #include <condition_variable>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <fstream>
@@ -53,8 +54,13 @@ class HardDeadline {
   HardDeadline(const HardDeadline&) = delete;
   HardDeadline& operator=(const HardDeadline&) = delete;
 
+  // Called by the meshing thread as its progress enters a phase; the watchdog books the
+  // seconds per phase itself, for the stuck thread's own clock cannot be read.
   void enterPhase(const std::string& phase) {
     std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    seconds_[phase_] += std::chrono::duration<double>(now - phaseStart_).count();
+    phaseStart_ = now;
     phase_ = phase;
   }
 
@@ -80,13 +86,15 @@ class HardDeadline {
     std::_Exit(3);  // the stuck thread holds locks of its own: no destructors, no atexit handlers
   }
 
-  // The stuck thread has written no report; this one has only what the watchdog knows.
+  // The stuck thread has written no report; this one has only what the watchdog knows: the
+  // seconds per phase as the progress named them (stopped_in's names), and the total.
   void writeReport(const std::string& status, const std::string& message) const {
     if (reportPath_.empty()) return;
-    const nlohmann::json report = {{"status", status},
-                                   {"error", message},
-                                   {"stopped_in", phase_},
-                                   {"seconds", {{"total", limit_ + grace_}}}};
+    const auto now = std::chrono::steady_clock::now();
+    nlohmann::json seconds(seconds_);
+    seconds[phase_] = seconds.value(phase_, 0.0) + std::chrono::duration<double>(now - phaseStart_).count();
+    seconds["total"] = std::chrono::duration<double>(now - start_).count();
+    const nlohmann::json report = {{"status", status}, {"error", message}, {"stopped_in", phase_}, {"seconds", seconds}};
     std::ofstream out(reportPath_);
     out << report.dump(2) << "\n" << std::flush;
   }
@@ -95,6 +103,9 @@ class HardDeadline {
   double limit_, grace_;
   std::function<std::string(double limit, double grace, const std::string& phase)> stalledInput_;
   std::string phase_ = "load";
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point phaseStart_ = start_;
+  std::map<std::string, double> seconds_;  // of the phases left
   bool finished_ = false;
   std::mutex mutex_;
   std::condition_variable wake_;

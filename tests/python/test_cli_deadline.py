@@ -48,6 +48,14 @@ def test_stuck_job_ends_after_its_time_limit_with_exit_code_3(phase, tmp_path):
         report = json.load(f)
     assert report["status"] == "stopped" and report["stopped_in"] == phase, report
     assert report["error"] in run.stderr and "did not end within" in report["error"], report
+    # The watchdog's clock: the phases the progress went through, the stuck one holding the
+    # limit and the grace, and together the total.
+    spent = report["seconds"]
+    assert TIME_LIMIT + GRACE <= spent["total"] < seconds, spent
+    assert spent[phase] > TIME_LIMIT + GRACE - 1, spent
+    assert abs(sum(v for k, v in spent.items() if k != "total") - spent["total"]) < 1e-6, spent
+    if phase == "refine":
+        assert {"load", "initial points"} <= set(spent), spent
 
 
 def test_job_that_ends_in_time_is_not_stopped(tmp_path):
