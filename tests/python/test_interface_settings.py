@@ -122,3 +122,24 @@ def test_the_stiffer_part_is_master():
     # The stored settings are not changed, and bonded defaults add no pairs.
     assert "master" not in settings["pairs"][0]
     assert interfaces.with_stiffer_masters({}, moduli, [("Pin", "Plate")]) == {}
+
+
+def touching_balls_report():
+    """The core's report of two unit balls touching at a point, the left one first."""
+    import oraclemesh
+    job = {"inputs": [{"name": "left", "sphere": {"center": [0, 0, 0], "radius": 1}, "material": 1},
+                      {"name": "right", "sphere": {"center": [2, 0, 0], "radius": 1}, "material": 2}],
+           "element_order": 1, "checks": "warn",  # coarse tet4 balls are short of volume
+           "criteria": {"default": {"cell_size": 0.3, "facet_size": 0.3, "facet_distance": 0.03}}}
+    return oraclemesh.run(job).report
+
+
+def test_a_pairs_row_tells_the_area_where_the_parts_do_not_touch():
+    # Balls touching at a point: the mesh bonds a patch around it, and all of it but a disc
+    # of radius sqrt(R t) lies where the balls are farther apart than the contact tolerance t.
+    ((a, b, area, triangles, beyond),) = interfaces.found_pairs(touching_balls_report())
+    assert (a, b) == ("left", "right") and triangles > 0
+    assert 0.99 * area < beyond <= area
+    assert ("%.3g mm^2 of it where the parts are farther apart than the contact tolerance"
+            % beyond) in interfaces.pair_tip(a, b, area, triangles, beyond)
+    assert "farther apart" not in interfaces.pair_tip(a, b, area, triangles, 0.0)

@@ -62,13 +62,12 @@ class InterfaceBox:
         """Show the settings for the pairs of a report (dict; {} before the first mesh)."""
         self.default.setCurrentIndex(interfaces.KINDS.index(interfaces.default_kind(settings)))
         found = interfaces.found_pairs(report)
-        self.pairs = [(a, b) for a, b, _, _ in found]
+        self.pairs = [(a, b) for a, b, _, _, _ in found]
         self.table.setRowCount(len(found))
-        for i, (a, b, area, triangles) in enumerate(found):
+        for i, (a, b, area, triangles, beyond) in enumerate(found):
             item = QtGui.QTableWidgetItem("%s - %s" % (a, b))
             item.setFlags(QtCore.Qt.ItemIsSelectable | QtCore.Qt.ItemIsEnabled)
-            item.setToolTip("'%s' and '%s': %.6g mm^2, %d triangles in the last mesh"
-                            % (a, b, area, triangles))
+            item.setToolTip(interfaces.pair_tip(a, b, area, triangles, beyond))
             self.table.setItem(i, 0, item)
             self.table.setCellWidget(i, 1, kind_combo(interfaces.kind_between(settings, a, b),
                                                       COLUMN_TIPS[1]))

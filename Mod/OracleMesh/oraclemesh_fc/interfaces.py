@@ -202,9 +202,24 @@ def with_stiffer_masters(settings, moduli, touching):
 
 
 def found_pairs(report):
-    """[(part a, part b, area, triangles)] of the interfaces in a mesh report (dict)."""
-    return [(e["parts"][0], e["parts"][1], float(e.get("area", 0.0)), int(e.get("triangles", 0)))
+    """[(part a, part b, area, triangles, area beyond the contact tolerance)] of the interfaces
+    in a mesh report (dict)."""
+    return [(e["parts"][0], e["parts"][1], float(e.get("area", 0.0)), int(e.get("triangles", 0)),
+             float(e.get("beyond_contact_area", 0.0)))
             for e in report.get("interfaces", []) if len(e.get("parts", ())) == 2]
+
+
+def pair_tip(a, b, area, triangles, beyond):
+    """What the panel's row of a found pair says of it. The part beyond the contact tolerance
+    is where the CAD's faces do not touch (a wedge beside a tangent contact, a contact's edge
+    the mesh follows by a chord) but the mesh made interface: split for tied or contact, its
+    two sides start closed there."""
+    tip = "'%s' and '%s': %.6g mm^2, %d triangles in the last mesh" % (a, b, area, triangles)
+    if beyond > 0:
+        tip += ("; %.3g mm^2 of it where the parts are farther apart than the contact tolerance "
+                "(beside a tangent contact or along the contact's edge), which tied or contact "
+                "start closed" % beyond)
+    return tip
 
 
 def last_report(mesh_obj):

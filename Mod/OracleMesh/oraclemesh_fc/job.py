@@ -417,7 +417,7 @@ def build_job(mesh_obj):
             raise MeshInputError(str(e)) from None
         # Pairs of the last mesh whose parts are still parts (not renamed or removed since).
         labels = {part.label for part, _ in material_entries}
-        touching = [(a, b) for a, b, _, _ in found_pairs(last_report(mesh_obj))
+        touching = [(a, b) for a, b, _, _, _ in found_pairs(last_report(mesh_obj))
                     if a in labels and b in labels]
         job["interfaces"] = with_stiffer_masters(
             settings, youngs_moduli(material_entries, materials), touching)

@@ -21,7 +21,9 @@ struct JoinedAcrossGap {
   double interface_area = 0;   // of all mesh faces between the two materials
   // Of that, where the parts lie farther apart than the tolerance (the gap interpolated
   // linearly over each face from its vertices): the band the mesh bonds beside a tangent
-  // contact (BondedWedges.h) plus any joined area. The rest is where the parts touch.
+  // contact (BondedWedges.h), a strip along a contact's edge that no feature curve holds on
+  // the CAD (its nodes a chord off both parts), and any joined area. The rest is where the
+  // parts touch.
   double beyond_contact_area = 0;
   double joined_area = 0;      // of those with no vertex within the tolerance of both parts
   double widest_gap = 0;       // the largest over those faces of their vertices' smallest distance
