@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <unordered_map>
@@ -98,13 +99,17 @@ std::vector<JoinedAcrossGap> measureInterfaceGaps(const TetMesh& mesh, const Hie
   return measured;
 }
 
+std::vector<JoinedAcrossGap> joinedPairs(const std::vector<JoinedAcrossGap>& measured) {
+  std::vector<JoinedAcrossGap> joined;
+  std::copy_if(measured.begin(), measured.end(), std::back_inserter(joined),
+               [](const JoinedAcrossGap& j) { return j.joined_area > 0; });
+  return joined;
+}
+
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                                        double tolerance, const std::vector<double>& distanceKeptOffCad,
                                                        const BondedWedges* bondedWedges) {
-  std::vector<JoinedAcrossGap> joined = measureInterfaceGaps(mesh, oracle, tolerance, distanceKeptOffCad, bondedWedges);
-  joined.erase(std::remove_if(joined.begin(), joined.end(), [](const JoinedAcrossGap& j) { return j.joined_area <= 0; }),
-               joined.end());
-  return joined;
+  return joinedPairs(measureInterfaceGaps(mesh, oracle, tolerance, distanceKeptOffCad, bondedWedges));
 }
 
 }  // namespace oraclemesh

@@ -43,6 +43,8 @@ std::vector<JoinedAcrossGap> measureInterfaceGaps(const TetMesh& mesh, const Hie
                                                   double tolerance,
                                                   const std::vector<double>& distanceKeptOffCad = {},
                                                   const BondedWedges* bondedWedges = nullptr);
+// The pairs of `measured` that the mesh joins across a gap (some joined area).
+std::vector<JoinedAcrossGap> joinedPairs(const std::vector<JoinedAcrossGap>& measured);
 std::vector<JoinedAcrossGap> findPartsJoinedAcrossGaps(const TetMesh& mesh, const HierarchicalOracle& oracle,
                                                        double tolerance,
                                                        const std::vector<double>& distanceKeptOffCad = {},

@@ -245,8 +245,7 @@ MeshSelfCheck checkMeshAgainstInputs(const TetMesh& mesh, const HierarchicalOrac
   }
   check.interface_gaps = measureInterfaceGaps(mesh, oracle, check.contact_tolerance, distance_kept_off_cad,
                                               bonded_wedges);
-  for (const JoinedAcrossGap& j : check.interface_gaps)
-    if (j.joined_area > 0) check.joined.push_back(j);
+  check.joined = joinedPairs(check.interface_gaps);
   for (const JoinedAcrossGap& j : check.joined) {
     if (j.joined_area <= check.volume_tolerance * j.interface_area) continue;
     std::ostringstream message;
