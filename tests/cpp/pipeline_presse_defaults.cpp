@@ -22,6 +22,7 @@
 
 #include "domain/BrepSolid.h"
 #include "domain/HierarchicalOracle.h"
+#include "improve/TetShape.h"
 #include "job/Pipeline.h"
 #include "mesh_checks.h"
 #include "occt_checks.h"
@@ -159,7 +160,7 @@ TEST(PresseDefaults, SubsegmentsTheTerminatorStopsAreKeptByBarycentreCells) {
 // and one piece (the ram's tube and rod share the nodes of the circle they meet along; pieces
 // are not checked where an overlap could split a part).
 // The four guide rods (COLONNE, solids 2 to 5) have at least 12 segments around at
-// every height.
+// every height. No element is under 5 degrees and no tet10 is inverted (issue 15).
 TEST(PresseDefaults, EveryPartWithinHalfAPercentOfItsVolumeAtTheDefaultFineness) {
   const auto& solids = presseSolids().solids;
   nlohmann::json materials = nlohmann::json::array();
@@ -185,6 +186,13 @@ TEST(PresseDefaults, EveryPartWithinHalfAPercentOfItsVolumeAtTheDefaultFineness)
     const int pieces = check.at("max_components").get<int>();  // -1: an overlap could split it
     EXPECT_LE(check.at("components").get<int>(), pieces < 0 ? 1 : pieces) << "Presse#" << material;
   }
+  // Issue 15: no element under 5 degrees, none inverted (tet10 Jacobian at the corners and
+  // the centre).
+  double smallest = 180;
+  for (const auto& tet : r.mesh.tets) smallest = std::min(smallest, smallestDihedral(r.mesh.points, tet));
+  std::cout << "[ figures  ] presse at the default fineness: smallest dihedral " << smallest << " degrees\n";
+  EXPECT_GE(smallest, 5);  // 7.6 measured; 1.2 before the tangent cusps of the nut were merged
+  EXPECT_EQ(test::conformity(r.mesh).inverted, 0);
   for (int rod = 2; rod <= 5; ++rod) {
     const int around = fewestSegmentsAround(r.mesh, solids[rod - 1]->shape(), rod);
     std::cout << "[ figures  ] Presse#" << rod << ": at least " << around << " segments around\n";

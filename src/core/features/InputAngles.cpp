@@ -209,11 +209,8 @@ void triangleSurfaceDihedrals(const HierarchicalOracle& oracle, const FeatureGra
   }
 }
 
-// Unit direction in which polyline `pl` leaves its end point (front, or back when `atBack`):
-// the exact tangent of its curve there (B-rep edges through BRepLProp, junction curves as
-// the cross product of their two faces' normals), signed by the end segment; the end segment
-// itself for user polylines and where the exact tangent is undefined. Chords would shrink
-// the angle between two curves leaving a vertex tangentially with the sampling.
+}  // namespace
+
 Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline& pl, const JunctionCurves* junctions,
                         bool atBack) {
   const size_t n = pl.points.size();
@@ -265,6 +262,8 @@ Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline&
   }
   return best;
 }
+
+namespace {
 
 void curveAngles(const HierarchicalOracle& oracle, const FeatureGraph& features, const JunctionCurves* junctions,
                  double limit, std::vector<SmallInputAngle>& out) {

@@ -30,6 +30,14 @@ struct SmallInputAngle {
   int curve = -1;     // the feature curve of a triangle surface's "dihedral", -1 otherwise
 };
 
+// Unit direction in which polyline `pl` leaves its end point (its front, or its back when
+// `atBack`): the exact tangent of its curve there (B-rep edges through BRepLProp, junction
+// curves as the cross product of their two faces' normals), signed to run into the polyline;
+// the end segment itself for user polylines and where the exact tangent is undefined. Chords
+// would shrink the angle between two curves leaving a vertex tangentially with the sampling.
+Point3 leavingDirection(const HierarchicalOracle& oracle, const FeaturePolyline& pl, const JunctionCurves* junctions,
+                        bool atBack);
+
 // The input angles under `limitDeg` on the composite boundary: dihedral angles along the B-rep
 // edges and triangle-surface sharp edges that are in `features` (so buried edges do not
 // count), angles between feature curves

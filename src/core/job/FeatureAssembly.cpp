@@ -13,12 +13,19 @@
 #include "features/CoincidentFeatures.h"
 #include "features/CurveSampling.h"
 #include "features/RuleSetQ.h"
+#include "features/TangentCusps.h"
 #include "features/TriangleSurfaceSharpEdges.h"
 #include "features/UserPolylines.h"
 
 namespace oraclemesh {
 
 namespace {
+
+// Curves leaving a vertex tangentially (TangentCusps.h): exact tangents within a degree are
+// tangent (the presse's nut: 1e-7 degrees; part.step's line on an arc: 0.15), and one curve
+// stands for both while the face between them is narrower than a quarter of the edge size.
+constexpr double kTangentCuspAngleDeg = 1;
+constexpr double kTangentCuspWidthPerEdgeSize = 0.25;
 
 // The chord bound of the feature polylines: 0 (the default, featureSagittaTolerance) except
 // for the thesis engine, whose polyline samples are all mesh vertices (thesisSagittaTolerance).
@@ -114,6 +121,17 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
       [&oracle](const FeaturePolyline& x, const FeaturePolyline& y) { return exactEdgeGap(oracle, x, y); },
       [&oracle](const FeaturePolyline& curve, const Point3& p) { return exactEdgePoint(oracle, curve, p); });
   assembled.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
+  // Where curves leave a vertex tangentially one stands for both near it (TangentCusps.h).
+  std::function<double(const Point3&)> edgeSizeAt = [edgeSize](const Point3&) { return edgeSize; };
+  if (table.varies()) edgeSizeAt = [&table](const Point3& p) { return table.edgeSizeAt(p); };
+  clipped = mergeTangentCusps(
+      clipped,
+      [&oracle, &junctions](const FeaturePolyline& pl, bool atBack) {
+        return leavingDirection(oracle, pl, junctions.get(), atBack);
+      },
+      edgeSizeAt, kTangentCuspAngleDeg, kTangentCuspWidthPerEdgeSize, &assembled.tangent_cusps);
+  for (TangentCusp& cusp : assembled.tangent_cusps)
+    if (cusp.source >= 0) cusp.input = oracle.entries()[cusp.source].source->name();
   // Ends are shared bitwise by construction; the tolerance only absorbs rounding.
   const std::vector<StarVertex> stars = findStarVertices(clipped, 1e-9 * oracle.diagonal());
   assembled.star_vertices = static_cast<int64_t>(stars.size());
@@ -160,6 +178,7 @@ FeatureReport describeFeatures(const JobSpec& job, const AssembledFeatures& feat
   report.polylines = features.graph.polylines.size();
   report.crossing_pieces = features.crossing_pieces;
   report.star_vertices = features.star_vertices;
+  report.tangent_cusps = features.tangent_cusps;
   return report;
 }
 

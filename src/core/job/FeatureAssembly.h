@@ -32,6 +32,7 @@ struct AssembledFeatures {
   // What the Rule Set Q preparation did, for the report.
   int64_t crossing_pieces = 0;  // polylines added by splitting at crossings
   int64_t star_vertices = 0;
+  std::vector<TangentCusp> tangent_cusps;  // where one curve stands for two (TangentCusps.h)
   // Under kSmallInputAngleLimitDeg, smallest first (findSmallInputAngles).
   std::vector<SmallInputAngle> small_angles;
 };

@@ -197,6 +197,20 @@ json selfCheckJson(const MeshSelfCheck& check, MeshCheckMode mode) {
           {"ok", check.problems.empty()}};
 }
 
+json tangentCuspsJson(const std::vector<TangentCusp>& cusps) {
+  json list = json::array();
+  for (const TangentCusp& c : cusps)
+    list.push_back({{"location", c.vertex},
+                    {"input", c.input},
+                    {"trimmed_edge", c.trimmed_edge},
+                    {"kept_edge", c.kept_edge},
+                    {"parting_point", c.parting_point},
+                    {"resumes_at", c.resumes_at},
+                    {"merged_length", c.merged_length},
+                    {"width_at_parting", c.width}});
+  return list;
+}
+
 json featuresJson(const FeatureReport& f, int64_t protectingBalls) {
   return {{"enabled", f.enabled},
           {"sharp_edge_polylines", f.sharp_edge_polylines},
@@ -207,6 +221,7 @@ json featuresJson(const FeatureReport& f, int64_t protectingBalls) {
           {"polylines", f.polylines},
           {"crossing_pieces", f.crossing_pieces},
           {"star_vertices", f.star_vertices},
+          {"tangent_cusps", tangentCuspsJson(f.tangent_cusps)},
           {"protecting_ball_vertices", protectingBalls}};
 }
 

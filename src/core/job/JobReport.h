@@ -15,6 +15,7 @@
 #include "domain/HierarchicalOracle.h"
 #include "features/FeatureSeparation.h"
 #include "features/InputAngles.h"
+#include "features/TangentCusps.h"
 #include "job/ContactTolerance.h"
 #include "job/JobSpec.h"
 #include "job/MeshSelfCheck.h"
@@ -50,6 +51,7 @@ struct FeatureReport {
   size_t polylines = 0;
   int64_t crossing_pieces = 0;  // polylines added by splitting at crossings (Rule Set Q)
   int64_t star_vertices = 0;
+  std::vector<TangentCusp> tangent_cusps;  // where one curve stands for two near a tangent vertex
 };
 
 // report.thesis: what Rule Set T did (engine "thesis").
