@@ -133,6 +133,43 @@ TEST(TangentCusps, CurvesMeetingAtAnAngleOrContinuingEachOtherAreLeftAsTheyAre) 
   for (size_t i = 0; i < 3; ++i) EXPECT_EQ(out.polylines[i].points, graph.polylines[i].points);
 }
 
+TEST(TangentCusps, AUserPolylineIsKeptWholeAndTheCurveTangentToItGivesWay) {
+  // The line is the user's (and the longer one): the parabola gives way as before. The
+  // parabola the user's: the line gives way, from the parabola's chain.
+  FeatureGraph graph;
+  graph.polylines = {sampled(range(0, 10, 2), 0, 0), sampled(range(0, 8, 2), kCurvature, 1)};
+  graph.polylines[0].user = 0;
+  std::vector<TangentCusp> cusps;
+  mergeTangentCusps(graph, exactLeaving, kEdgeSize, 1, 0.25, &cusps);
+  ASSERT_EQ(cusps.size(), 1u);
+  EXPECT_EQ(cusps[0].trimmed_edge, 1);
+
+  graph.polylines[0].user = -1;
+  graph.polylines[1].user = 0;
+  cusps.clear();
+  const FeatureGraph out = mergeTangentCusps(graph, exactLeaving, kEdgeSize, 1, 0.25, &cusps);
+  ASSERT_EQ(cusps.size(), 1u);
+  EXPECT_EQ(cusps[0].trimmed_edge, 0);
+  // The line's samples at x = 0 and 2 are within 0.5 of the parabola's chain, the one at 4 is
+  // 0.77 off it: the line now starts at the parabola's sample (2, 0.2).
+  EXPECT_EQ(cusps[0].parting_point, (Point3{2, 0.2, 0}));
+  EXPECT_EQ(cusps[0].resumes_at, (Point3{4, 0, 0}));
+  // The user's polyline keeps every point, in two pieces split at the parting point.
+  size_t userPoints = 0, userPieces = 0;
+  for (const FeaturePolyline& pl : out.polylines)
+    if (pl.user >= 0) {
+      ++userPieces;
+      userPoints += pl.points.size();
+    }
+  EXPECT_EQ(userPieces, 2u);
+  EXPECT_EQ(userPoints, graph.polylines[1].points.size() + 1);
+
+  graph.polylines[0].user = 1;
+  cusps.clear();
+  mergeTangentCusps(graph, exactLeaving, kEdgeSize, 1, 0.25, &cusps);
+  EXPECT_TRUE(cusps.empty()) << "two user polylines are both kept";
+}
+
 TEST(TangentCusps, ACurveThatNeverPartsIsKeptWhole) {
   // A parabola so flat it stays within a quarter of the edge size of the line all along: taking
   // it out would drop a sharp edge, so the pair stays as it is.

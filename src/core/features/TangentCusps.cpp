@@ -69,10 +69,14 @@ FeatureGraph mergeTangentCusps(const FeatureGraph& graph, const LeavingDirection
         const Point3 ta = leaving(graph.polylines[a], aBack), tb = leaving(graph.polylines[b], bBack);
         // Tangent and leaving the same way (a curve continuing the other one is not a cusp).
         if (dot(ta, tb) <= 0 || norm(cross(ta, tb)) >= sinLimit * norm(ta) * norm(tb)) continue;
+        // The user's own polylines are kept whole: the other curve gives way, or neither.
+        const bool aUser = graph.polylines[a].user >= 0, bUser = graph.polylines[b].user >= 0;
+        if (aUser && bUser) continue;
         const bool aShorter = lengths[a] < lengths[b] ||
                               (lengths[a] == lengths[b] && graph.polylines[a].curve > graph.polylines[b].curve);
-        const auto [t, tBack] = aShorter ? std::pair{a, aBack} : std::pair{b, bBack};
-        const auto [k, kBack] = aShorter ? std::pair{b, bBack} : std::pair{a, aBack};
+        const bool trimA = aUser ? false : bUser ? true : aShorter;
+        const auto [t, tBack] = trimA ? std::pair{a, aBack} : std::pair{b, bBack};
+        const auto [k, kBack] = trimA ? std::pair{b, bBack} : std::pair{a, aBack};
         if (lostAt[2 * t + tBack] > 0 || keeps[t] || trimmedAny[k]) continue;
         const EndView trimmed{&graph.polylines[t].points, tBack};
         const EndView kept{&graph.polylines[k].points, kBack};

@@ -41,7 +41,7 @@ using LeavingDirection = std::function<Point3(const FeaturePolyline&, bool atBac
 
 // For every pair of polylines sharing an end point at which they leave at under
 // `tangentAngleDeg` (their exact tangents), the shorter one (by length; the higher curve id
-// when equal) loses the samples within `widthPerEdgeSize` x edgeSize(sample) of the longer
+// when equal; never a user polyline, which is kept whole) loses the samples within `widthPerEdgeSize` x edgeSize(sample) of the longer
 // one's chain from that end on, and starts at the longer one's sample nearest to the last
 // sample lost; the longer one is split there into two polylines so that the meeting is a
 // shared end (the step before Rule Set Q asks for that). A curve is trimmed at most once per
