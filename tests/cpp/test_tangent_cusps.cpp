@@ -170,16 +170,36 @@ TEST(TangentCusps, AUserPolylineIsKeptWholeAndTheCurveTangentToItGivesWay) {
   EXPECT_TRUE(cusps.empty()) << "two user polylines are both kept";
 }
 
-TEST(TangentCusps, ACurveThatNeverPartsIsKeptWhole) {
-  // A parabola so flat it stays within a quarter of the edge size of the line all along: taking
-  // it out would drop a sharp edge, so the pair stays as it is.
+TEST(TangentCusps, WhenTheShorterCurveNeverPartsTheLongerOneGivesWay) {
+  // A parabola so flat it stays within a quarter of the edge size of the line all along (0.064
+  // at its end, x = 8): the parabola is kept whole and the line gives way, from the parabola's
+  // end, since its own sample at x = 10 is 2 off the parabola's chain.
   FeatureGraph graph;
   graph.polylines = {sampled(range(0, 10, 2), 0, 0), sampled(range(0, 8, 2), 0.001, 1)};
   std::vector<TangentCusp> cusps;
   const FeatureGraph out = mergeTangentCusps(
       graph, [](const FeaturePolyline& pl, bool) { return pl.points[1] - pl.points[0]; }, kEdgeSize, 1, 0.25, &cusps);
+  ASSERT_EQ(cusps.size(), 1u);
+  EXPECT_EQ(cusps[0].trimmed_edge, 0);
+  EXPECT_EQ(cusps[0].parting_point, (Point3{8, 0.064, 0}));
+  EXPECT_EQ(cusps[0].resumes_at, (Point3{10, 0, 0}));
+  ASSERT_EQ(out.polylines.size(), 2u);
+  EXPECT_EQ(out.polylines[0].points, (std::vector<Point3>{{8, 0.064, 0}, {10, 0, 0}}));
+  EXPECT_EQ(out.polylines[1].points, graph.polylines[1].points);
+}
+
+TEST(TangentCusps, TwoCurvesThatNeverPartAreKeptWhole) {
+  // Both within a quarter of the edge size of each other all along: taking either out would
+  // drop a sharp edge, so the pair stays as it is.
+  FeatureGraph graph;
+  graph.polylines = {sampled(range(0, 8, 2), 0, 0), sampled(range(0, 8, 2), 0.001, 1)};
+  std::vector<TangentCusp> cusps;
+  const FeatureGraph out = mergeTangentCusps(
+      graph, [](const FeaturePolyline& pl, bool) { return pl.points[1] - pl.points[0]; }, kEdgeSize, 1, 0.25, &cusps);
   EXPECT_TRUE(cusps.empty());
-  EXPECT_EQ(out.polylines.size(), 2u);
+  ASSERT_EQ(out.polylines.size(), 2u);
+  EXPECT_EQ(out.polylines[0].points, graph.polylines[0].points);
+  EXPECT_EQ(out.polylines[1].points, graph.polylines[1].points);
 }
 
 }  // namespace

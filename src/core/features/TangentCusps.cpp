@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -39,6 +40,51 @@ struct Trim {
   size_t keptSample = 0;   // index in the kept polyline's points
   TangentCusp cusp;
 };
+
+enum class Parting { NotTried, Parted, AtOnce, Never };
+
+// The trim of polyline t at its end (front, or back when tBack) against polyline k sharing that
+// end `vertex` (TangentCusps.h); nullopt where t parts from k at its first sample or never, or
+// where the trim would reach the samples its other end lost (otherLost).
+std::optional<Trim> trimAgainst(const FeatureGraph& graph, const Point3& vertex, size_t t, bool tBack, size_t k,
+                                bool kBack, size_t otherLost, const std::function<double(const Point3&)>& edgeSize,
+                                double widthPerEdgeSize, Parting& parting) {
+  const EndView trimmed{&graph.polylines[t].points, tBack};
+  const EndView kept{&graph.polylines[k].points, kBack};
+  // The first sample of the trimmed curve that is far enough from the kept one.
+  size_t parted = 1;
+  double width = 0;
+  for (; parted < trimmed.size(); ++parted) {
+    width = distanceToPolyline(*kept.points, trimmed[parted]);
+    if (width >= widthPerEdgeSize * edgeSize(trimmed[parted])) break;
+  }
+  parting = parted == 1 ? Parting::AtOnce : parted == trimmed.size() ? Parting::Never : Parting::Parted;
+  if (parting != Parting::Parted) return std::nullopt;
+  if (parted + otherLost > trimmed.size() - 1) return std::nullopt;
+  // The kept curve's last sample before the parting: nearest to the last lost sample, and
+  // nearer the vertex than the first sample kept, so the new first segment runs on.
+  const double reach = distance(vertex, trimmed[parted - 1]) + 0.5 * distance(trimmed[parted - 1], trimmed[parted]);
+  size_t q = 0;
+  for (size_t s = 1; s < kept.size() && distance(vertex, kept[s]) < reach; ++s) q = s;
+  if (q == 0) return std::nullopt;
+  Trim trim;
+  trim.trimmed = t;
+  trim.atBack = tBack;
+  trim.lost = parted;
+  trim.kept = k;
+  trim.keptSample = kept.original(q);
+  trim.cusp.vertex = vertex;
+  trim.cusp.trimmed_curve = graph.polylines[t].curve;
+  trim.cusp.kept_curve = graph.polylines[k].curve;
+  trim.cusp.source = graph.polylines[t].source;
+  trim.cusp.trimmed_edge = graph.polylines[t].edge;
+  trim.cusp.kept_edge = graph.polylines[k].edge;
+  trim.cusp.parting_point = kept[q];
+  trim.cusp.resumes_at = trimmed[parted];
+  for (size_t s = 0; s + 1 < parted; ++s) trim.cusp.merged_length += distance(trimmed[s], trimmed[s + 1]);
+  trim.cusp.width = width;
+  return trim;
+}
 
 }  // namespace
 
@@ -77,44 +123,21 @@ FeatureGraph mergeTangentCusps(const FeatureGraph& graph, const LeavingDirection
         const bool trimA = aUser ? false : bUser ? true : aShorter;
         const auto [t, tBack] = trimA ? std::pair{a, aBack} : std::pair{b, bBack};
         const auto [k, kBack] = trimA ? std::pair{b, bBack} : std::pair{a, aBack};
-        if (lostAt[2 * t + tBack] > 0 || keeps[t] || trimmedAny[k]) continue;
-        const EndView trimmed{&graph.polylines[t].points, tBack};
-        const EndView kept{&graph.polylines[k].points, kBack};
-        // The first sample of the trimmed curve that is far enough from the kept one.
-        size_t parted = 1;
-        double width = 0;
-        for (; parted < trimmed.size(); ++parted) {
-          width = distanceToPolyline(*kept.points, trimmed[parted]);
-          if (width >= widthPerEdgeSize * edgeSize(trimmed[parted])) break;
-        }
-        if (parted == 1 || parted == trimmed.size()) continue;  // parts at once, or never
-        if (parted + lostAt[2 * t + !tBack] > trimmed.size() - 1) continue;  // the other end's trim reaches here
-        // The kept curve's last sample before the parting: nearest to the last lost sample,
-        // and nearer the vertex than the first sample kept, so the new first segment runs on.
-        const double reach = distance(vertex, trimmed[parted - 1]) + 0.5 * distance(trimmed[parted - 1], trimmed[parted]);
-        size_t q = 0;
-        for (size_t s = 1; s < kept.size() && distance(vertex, kept[s]) < reach; ++s) q = s;
-        if (q == 0) continue;
-        Trim trim;
-        trim.trimmed = t;
-        trim.atBack = tBack;
-        trim.lost = parted;
-        trim.kept = k;
-        trim.keptSample = kept.original(q);
-        trim.cusp.vertex = vertex;
-        trim.cusp.trimmed_curve = graph.polylines[t].curve;
-        trim.cusp.kept_curve = graph.polylines[k].curve;
-        trim.cusp.source = graph.polylines[t].source;
-        trim.cusp.trimmed_edge = graph.polylines[t].edge;
-        trim.cusp.kept_edge = graph.polylines[k].edge;
-        trim.cusp.parting_point = kept[q];
-        trim.cusp.resumes_at = trimmed[parted];
-        for (size_t s = 0; s + 1 < parted; ++s) trim.cusp.merged_length += distance(trimmed[s], trimmed[s + 1]);
-        trim.cusp.width = width;
-        lostAt[2 * t + tBack] = parted;
-        trimmedAny[t] = 1;
-        keeps[k] = 1;
-        trims.push_back(trim);
+        std::optional<Trim> trim;
+        Parting parting = Parting::NotTried;
+        if (lostAt[2 * t + tBack] == 0 && !keeps[t] && !trimmedAny[k])
+          trim = trimAgainst(graph, vertex, t, tBack, k, kBack, lostAt[2 * t + !tBack], edgeSize, widthPerEdgeSize, parting);
+        // The shorter curve may stay within reach of the longer one all along (a piece of a
+        // curve split near the vertex, shorter than the stretch where the two run together):
+        // then the longer one gives way, unless the user drew it.
+        if (!trim && parting == Parting::Never && graph.polylines[k].user < 0 && lostAt[2 * k + kBack] == 0 &&
+            !keeps[k] && !trimmedAny[t])
+          trim = trimAgainst(graph, vertex, k, kBack, t, tBack, lostAt[2 * k + !kBack], edgeSize, widthPerEdgeSize, parting);
+        if (!trim) continue;
+        lostAt[2 * trim->trimmed + trim->atBack] = trim->lost;
+        trimmedAny[trim->trimmed] = 1;
+        keeps[trim->kept] = 1;
+        trims.push_back(*trim);
       }
 
   FeatureGraph out;

@@ -43,7 +43,8 @@ using LeavingDirection = std::function<Point3(const FeaturePolyline&, bool atBac
 // `tangentAngleDeg` (their exact tangents), the shorter one (by length; the higher curve id
 // when equal; never a user polyline, which is kept whole) loses the samples within `widthPerEdgeSize` x edgeSize(sample) of the longer
 // one's chain from that end on, and starts at the longer one's sample nearest to the last
-// sample lost; the longer one is split there into two polylines so that the meeting is a
+// sample lost (where the shorter one stays that close all along, the longer one gives way
+// instead, against the shorter one's chain); the longer one is split there into two polylines so that the meeting is a
 // shared end (the step before Rule Set Q asks for that). A curve is trimmed at most once per
 // end, never by a curve it trims elsewhere, and never to fewer than two points (then the pair
 // is left as it is). Curves are renumbered 0, 1, ... in polyline order; `cusps` receives what
