@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <utility>
+
+#include "features/UserPolylines.h"
 
 namespace oraclemesh {
 namespace {
@@ -15,12 +16,6 @@ double polylineLength(const std::vector<Point3>& points) {
   double length = 0;
   for (size_t k = 0; k + 1 < points.size(); ++k) length += distance(points[k], points[k + 1]);
   return length;
-}
-
-double distanceToPolyline(const std::vector<Point3>& points, const Point3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t k = 0; k + 1 < points.size(); ++k) best = std::min(best, distanceToSegment(p, points[k], points[k + 1]));
-  return best;
 }
 
 // The polyline's points as seen from one end: index k from that end.
@@ -55,7 +50,7 @@ std::optional<Trim> trimAgainst(const FeatureGraph& graph, const Point3& vertex,
   size_t parted = 1;
   double width = 0;
   for (; parted < trimmed.size(); ++parted) {
-    width = distanceToPolyline(*kept.points, trimmed[parted]);
+    width = distance(trimmed[parted], nearestOnPolyline(*kept.points, trimmed[parted]));
     if (width >= widthPerEdgeSize * edgeSize(trimmed[parted])) break;
   }
   parting = parted == 1 ? Parting::AtOnce : parted == trimmed.size() ? Parting::Never : Parting::Parted;
@@ -106,13 +101,17 @@ FeatureGraph mergeTangentCusps(const FeatureGraph& graph, const LeavingDirection
   std::vector<size_t> lostAt(2 * n, 0);  // per polyline end (2 i + atBack): samples it lost
   std::vector<char> keeps(n, 0), trimmedAny(n, 0);
   const double sinLimit = std::sin(tangentAngleDeg * M_PI / 180);
-  for (const auto& [vertex, list] : ends)
+  for (const auto& [vertex, list] : ends) {
+    if (list.size() < 2) continue;
+    std::vector<Point3> directions;  // each end's, once (exact tangents: OpenCASCADE projections)
+    for (const auto& [i, atBack] : list) directions.push_back(leaving(graph.polylines[i], atBack));
     for (size_t x = 0; x < list.size(); ++x)
       for (size_t y = x + 1; y < list.size(); ++y) {
         auto [a, aBack] = list[x];
         auto [b, bBack] = list[y];
         if (a == b) continue;
-        const Point3 ta = leaving(graph.polylines[a], aBack), tb = leaving(graph.polylines[b], bBack);
+        const Point3& ta = directions[x];
+        const Point3& tb = directions[y];
         // Tangent and leaving the same way (a curve continuing the other one is not a cusp).
         if (dot(ta, tb) <= 0 || norm(cross(ta, tb)) >= sinLimit * norm(ta) * norm(tb)) continue;
         // The user's own polylines are kept whole: the other curve gives way, or neither.
@@ -139,6 +138,7 @@ FeatureGraph mergeTangentCusps(const FeatureGraph& graph, const LeavingDirection
         keeps[trim->kept] = 1;
         trims.push_back(*trim);
       }
+  }
 
   FeatureGraph out;
   std::vector<std::set<size_t>> splits(n);  // inner samples where a kept polyline is split
