@@ -232,6 +232,33 @@ TEST(ThesisSharedModels, ScrewChamferFoldsGoAtTheDefaultFineness) {
   expectBoundaryNodesOnTheCad(run, "screw.step");
 }
 
+// screw.step at issue 15's size (cell and facet size diagonal / 25, facet distance diagonal /
+// 1000, under the moderate fineness' field): where its slot meets the 45-degree chamfer, facets with a corner on the slot's bottom
+// and one on the chamfer cone spanned the wedge between them, the wedge's tip under them was
+// left out of the mesh, and a flat tet at that notch's rim joined two fans of tets at one
+// vertex (2.4e-13 degrees; no improvement may take it: the part would be pinched there). Such
+// facets are refined now (FacetAcrossSharpEdgeCriterion) and no tet is under 15 degrees.
+TEST(ThesisSharedModels, ScrewSlotMeetsItsChamferWithoutAFoldAtIssue15Size) {
+  const double diagonal = 103.10346540646871;
+  const json size = {{"cell_size", diagonal / 25}, {"facet_size", diagonal / 25}, {"facet_distance", diagonal / 1000}};
+  const SharedModelRun run = meshSharedModel("screw.step", "screw", {{"criteria", {{"fineness", "moderate"}, {"default", size}}}});
+  const json& report = run.result.report;
+  const TetMesh& m = run.result.mesh;
+  ASSERT_NEAR(report.at("bbox_diagonal").get<double>(), diagonal, 1e-6 * diagonal);
+  expectConforming(m);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(m), 0);
+  int dihedrals45 = 0;
+  for (const json& a : report.at("small_input_angles"))
+    dihedrals45 += a.at("kind") == "dihedral" && std::abs(a.at("angle_deg").get<double>() - 45) < 1e-6;
+  EXPECT_EQ(dihedrals45, 3) << "the chamfer's three arcs along the slot";
+  for (const json& e : report.at("thesis").at("elements_left"))
+    EXPECT_EQ(e.at("reason").get<std::string>().find("spans the wedge"), std::string::npos) << e.dump();
+  double smallest = 180;
+  for (const auto& tet : m.tets) smallest = std::min(smallest, smallestDihedral(m.points, tet));
+  EXPECT_GE(smallest, 15);
+  expectBoundaryNodesOnTheCad(run, "screw.step");
+}
+
 // Kurbelwelle.stp at the default fineness: its worst tets after flips and smoothing had a short
 // edge whose ends could not move apart (0.026 degrees, 12 / 26 / 64 tets under 5 / 10 / 15);
 // edge collapse takes such an end out (0.82 degrees, 4 / 13 / 27), multi-face removal and new

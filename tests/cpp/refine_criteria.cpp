@@ -188,5 +188,21 @@ TEST(RefineFacetCriteria, InterfaceCornerOffAPartIsBad) {
   EXPECT_EQ(FacetCriteria(t).judge(between).badness, 0) << "contact tolerance 0: not checked";
 }
 
+TEST(RefineFacetCriteria, FacetAcrossASmallDihedralEdgeIsBadWhenDeeperThanHalfTheFacetDistance) {
+  FacetShape across = rightFacet(0.5);  // facet distance measure 0.5
+  EXPECT_EQ(FacetCriteria(facetTable(10, 0.9, 0)).judge(across).badness, 0) << "corners on one face";
+  across.acrossSharpEdge = true;
+  EXPECT_EQ(FacetCriteria(facetTable(10, 1, 0)).judge(across).badness, 0) << "depth 0.5 is half of 1: a chord of the tip";
+  const FacetVerdict deep = FacetCriteria(facetTable(10, 0.9, 0)).judge(across);
+  EXPECT_EQ(deep.badness, FacetAcrossSharpEdgeCriterion::kExcess) << "0.5 deeper than 0.45, within facet_distance 0.9";
+  EXPECT_EQ(std::string(deep.reason),
+            "it spans the wedge beside a dihedral angle under 60 degrees deeper than half the facet distance");
+  EXPECT_EQ(FacetCriteria(facetTable(10, 0, 0)).judge(across).badness, FacetAcrossSharpEdgeCriterion::kExcess)
+      << "no facet distance: every facet across the edge is bad";
+  // A facet farther than its facet distance keeps that reason when it is the worse.
+  EXPECT_EQ(std::string(FacetCriteria(facetTable(10, 0.1, 0)).judge(across).reason),
+            "facet distance above facet_distance");
+}
+
 }  // namespace
 }  // namespace oraclemesh::refine

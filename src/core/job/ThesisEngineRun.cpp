@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "Error.h"
+#include "features/SharpEdgeFaces.h"
 #include "job/PoorElements.h"
 #include "mesh/Topology.h"
 #include "mesh/Writers.h"
@@ -63,13 +64,18 @@ EngineRun runThesisEngine(const JobSpec& job, const HierarchicalOracle& oracle, 
   // Where the terminator rule may leave cells: curves along small dihedral angles and along
   // wedges that touching inputs close, and the points where curves meet at small angles or
   // cones end.
+  std::vector<int> dihedralCurves;
   for (const SmallInputAngle& a : smallAngles) {
     if (a.kind != "dihedral" && a.kind != "contact") {
       options.small_angle_points.push_back(a.location);
       continue;
     }
-    for (int curve : curvesOfSmallAngle(a, features, oracle)) options.small_angle_curves.push_back(curve);
+    for (int curve : curvesOfSmallAngle(a, features, oracle)) {
+      options.small_angle_curves.push_back(curve);
+      if (a.kind == "dihedral") dihedralCurves.push_back(curve);
+    }
   }
+  options.faces_meeting_at_small_dihedrals = facesMeetingAlongCurves(oracle, features, dihedralCurves);
   // Sliver removal (optimize.perturb) is the engine's own: the sliver rule after T1-T3, then
   // rule P's vertex moves. What they leave goes to the improvement stage after the snap.
   options.sliver_dihedral_deg = job.perturb ? thesisSliverBound(job) : 0;

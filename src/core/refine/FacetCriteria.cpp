@@ -38,6 +38,11 @@ double FacetAngleCriterion::smallestAngleDeg(const FacetShape& f) {
   return minAngle;
 }
 
+bool FacetAcrossSharpEdgeCriterion::fails(const FacetShape& f) const {
+  if (!f.acrossSharpEdge) return false;
+  return !(depthBound > 0 && std::isfinite(depthBound)) || FacetDistanceCriterion::distance(f) > depthBound;
+}
+
 bool FacetAngleCriterion::applies() const { return bound > 0 && std::isfinite(bound); }
 
 double FacetCriteria::bound(const FacetShape& f, double MaterialCriteria::*field) const {
@@ -104,6 +109,11 @@ FacetVerdict FacetCriteria::judgeWith(const FacetShape& f, bool withAngle, const
   if (onInterface.fails(f) && FacetOnInterfaceCriterion::kExcess > worst) {
     worst = FacetOnInterfaceCriterion::kExcess;
     v.reason = "a corner farther than the contact tolerance from one of the two parts it lies between";
+  }
+  const FacetAcrossSharpEdgeCriterion acrossEdge{FacetAcrossSharpEdgeCriterion::kDepthShare * distance.bound};
+  if (acrossEdge.fails(f) && FacetAcrossSharpEdgeCriterion::kExcess > worst) {
+    worst = FacetAcrossSharpEdgeCriterion::kExcess;
+    v.reason = "it spans the wedge beside a dihedral angle under 60 degrees deeper than half the facet distance";
   }
   v.badness = worst > 1 ? worst : 0;
   return v;

@@ -19,6 +19,7 @@ struct FacetShape {
   bool cornersOnBoundary = true;    // false when a corner is an interior (or infinite) vertex
   double bridge = 0;                // empty space the dual edge crosses between two materials
   bool offInterface = false;        // between two materials: a corner off one of the parts
+  bool acrossSharpEdge = false;     // two corners on two faces of one B-rep that meet at a sharp edge
 };
 
 // The facet's three vertices must lie on the boundary (T2's first premise).
@@ -70,6 +71,22 @@ struct FacetOnInterfaceCriterion {
   static constexpr double kExcess = 2;  // its badness, as for a bridge
   double bound = 0;                     // the contact tolerance; 0: off
   bool fails(const FacetShape& f) const { return bound > 0 && f.offInterface; }
+};
+
+// A facet with corners on two faces that meet at a dihedral angle under 60 degrees spans the
+// thin wedge beside their edge instead of meeting the edge's chain of subsegments: the wedge's
+// tip under it is left out of the mesh as a notch of void, with flat tets at its rim that no
+// improvement can take (screw.step's 45-degree chamfer meeting its slot; facet size and
+// distance miss it when the wedge is thinner than facet_distance). Such a facet is bad when it
+// lies deeper than half the facet distance bound (measured as FacetDistanceCriterion does): a
+// shallower one is a chord of the wedge's tip within the surface tolerance, and Rule Set T,
+// which keeps surface vertices only out of the subsegments' diametral balls, cannot take
+// every facet out of a wedge that acute.
+struct FacetAcrossSharpEdgeCriterion {
+  static constexpr double kExcess = 2;       // its badness, as for a bridge
+  static constexpr double kDepthShare = 0.5;  // of facet_distance
+  double depthBound = 0;                     // no positive finite bound: every such facet fails
+  bool fails(const FacetShape& f) const;
 };
 
 struct FacetVerdict {

@@ -86,6 +86,44 @@ bool RuleSetTRefiner::offInterface(CH c, int i, int materialA, int materialB) co
   return false;
 }
 
+// The B-rep face a dimension-2 vertex lies on, projected once per position (rule P moves
+// vertices); -1 for other vertices and for entries that are no B-rep.
+int RuleSetTRefiner::patchOf(VH v) const {
+  VertexInfo& info = v->info();
+  const int entry = info.boundaryEntry;
+  if (info.dimension != 2 || entry < 0 || !oracle_.entries()[entry].source->brepTopology()) return -1;
+  const Point3 at = toPoint3(v->point());
+  if (!(info.patchReadAt == at)) {
+    info.patch = oracle_.entries()[entry].source->project(at).patch;
+    info.patchReadAt = at;
+  }
+  return info.patch;
+}
+
+// Whether two corners of facet (c, i) lie on two faces of one B-rep that meet at a small
+// dihedral angle: the facet then spans the wedge beside that edge instead of having the edge's
+// chain of subsegments as an edge, and the mesh's boundary leaves the CAD there.
+bool RuleSetTRefiner::acrossSharpEdge(CH c, int i) const {
+  const auto& pairs = options_.faces_meeting_at_small_dihedrals;
+  if (pairs.empty()) return false;
+  std::array<std::pair<int, int>, 3> onFace;  // (entry, face) of each corner, (-1, -1) if none
+  for (int k = 0; k < 3; ++k) {
+    const VH w = c->vertex((i + 1 + k) & 3);
+    onFace[k] = {-1, -1};
+    if (dt_.is_infinite(w)) continue;
+    const int patch = patchOf(w);
+    if (patch >= 0) onFace[k] = {w->info().boundaryEntry, patch};
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b) {
+      const auto [entryA, faceA] = onFace[a];
+      const auto [entryB, faceB] = onFace[b];
+      if (faceA < 0 || faceB < 0 || entryA != entryB || faceA == faceB) continue;
+      if (pairs.count({entryA, std::min(faceA, faceB), std::max(faceA, faceB)})) return true;
+    }
+  return false;
+}
+
 void RuleSetTRefiner::evaluateFacet(CH c, int i) {
   CH n = c->neighbor(i);
   const int j = n->index(c);
@@ -122,6 +160,7 @@ void RuleSetTRefiner::evaluateFacet(CH c, int i) {
         data.bridge = bridgedGap(crossings, options_.criteria.contact_tolerance);
       if (data.restricted && data.labelA > 0 && data.labelB > 0 && contactEnds(data.labelA, data.labelB))
         data.offInterface = offInterface(c, i, data.labelA, data.labelB);
+      if (data.restricted) data.acrossSharpEdge = acrossSharpEdge(c, i);
     }
   }
   c->info().facets[i] = data;
@@ -142,6 +181,7 @@ double RuleSetTRefiner::facetBadness(CH c, int i, std::string* reason, bool with
   shape.labelB = f.labelB;
   shape.bridge = f.bridge;
   shape.offInterface = f.offInterface;
+  shape.acrossSharpEdge = f.acrossSharpEdge;
   VH corners[3];
   for (int k = 0; k < 3; ++k) {
     corners[k] = c->vertex((i + 1 + k) & 3);

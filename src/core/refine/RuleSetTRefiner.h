@@ -52,6 +52,10 @@ struct VertexInfo {
   // Lipschitz lower bounds of the cell and facet criteria start from them (fieldsBelow).
   Point3 fieldsReadAt{std::numeric_limits<double>::quiet_NaN(), 0, 0};
   CriteriaTable::FieldValues fields;
+  // The B-rep face of boundaryEntry that a dimension-2 vertex lies on, read once per position
+  // (patchOf): -1 when unknown or not a B-rep.
+  Point3 patchReadAt{std::numeric_limits<double>::quiet_NaN(), 0, 0};
+  int patch = -1;
 };
 
 // What the dual Voronoi edge of a facet says about the boundary. Kept on both cells of the
@@ -67,6 +71,7 @@ struct FacetData {
   // lies farther than the contact tolerance from one of the two parts (FacetCriteria.h).
   double bridge = 0;
   bool offInterface = false;
+  bool acrossSharpEdge = false;  // two corners on faces that meet at a sharp edge (FacetCriteria.h)
 };
 
 struct CellInfo {
@@ -258,6 +263,8 @@ class RuleSetTRefiner {
   void dualOf(CH c, int i, Point3& from, Point3& to, int& labelFrom, int& labelTo) const;
   bool offInterface(CH c, int i, int materialA, int materialB) const;
   bool nearMaterial(VH v, int material) const;
+  int patchOf(VH v) const;
+  bool acrossSharpEdge(CH c, int i) const;
   double bridgedGap(const std::vector<CompositeCrossing>& crossings, double narrow) const;
   void evaluateFacet(CH c, int i);
   double facetBadness(CH c, int i, std::string* reason = nullptr, bool withAngle = true) const;

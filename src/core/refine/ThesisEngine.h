@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "MeshCriteria.h"
@@ -28,6 +30,10 @@ struct RuleSetTOptions {
   // radius-edge bound are left (terminator rule) instead of splitting segments without end.
   std::vector<int> small_angle_curves;
   std::vector<Point3> small_angle_points;
+  // (oracle entry, face, face) with the smaller face first, for the two faces of each B-rep
+  // edge along a dihedral angle under 60 degrees: a restricted facet with corners on both
+  // spans the thin wedge there and is refined (FacetCriteria.h).
+  std::set<std::tuple<int, int, int>> faces_meeting_at_small_dihedrals;
   // Planar faces whose triangles are recovered as 3D facets (features.planar_faces; empty =
   // off). Their borders must be constrained segments of `features` (findPlanarFaces).
   std::vector<PlanarFace> planar_faces;
