@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace oraclemesh {
 
@@ -34,6 +35,26 @@ inline double distanceToSegment(const Point3& p, const Point3& a, const Point3& 
   const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
   if (parameter) *parameter = t;
   return distance(p, a + t * ab);
+}
+
+// The point of a polyline nearest to p: its distance, the segment it lies on and its position
+// along that segment (0 at the segment's start, 1 at its end). A single point is its own nearest.
+struct PolylineFoot {
+  Point3 point{};
+  double distance = std::numeric_limits<double>::infinity();
+  size_t segment = 0;
+  double along = 0;
+};
+
+inline PolylineFoot nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p) {
+  PolylineFoot foot;
+  if (polyline.size() == 1) foot.point = polyline.front(), foot.distance = distance(p, polyline.front());
+  for (size_t i = 0; i + 1 < polyline.size(); ++i) {
+    double t = 0;
+    const double d = distanceToSegment(p, polyline[i], polyline[i + 1], &t);
+    if (d < foot.distance) foot = {polyline[i] + t * (polyline[i + 1] - polyline[i]), d, i, t};
+  }
+  return foot;
 }
 
 struct Bbox {

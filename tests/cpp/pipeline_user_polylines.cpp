@@ -24,7 +24,7 @@ namespace oraclemesh {
 namespace {
 
 double distanceToSegment(const Point3& p, const Point3& a, const Point3& b) {
-  return distance(p, nearestOnPolyline({a, b}, p));
+  return nearestOnPolyline({a, b}, p).distance;
 }
 
 // Length of the segment a-b covered by mesh feature edges lying on it.

@@ -110,7 +110,7 @@ TEST(CurveRegistry, ProjectsOntoAUserPolylinesExactEdgeElseOntoTheChords) {
 
   const BoundaryProjection onChord = curves.project(4, p);
   EXPECT_NEAR(radiusAboutZ(onChord.point), 2 * std::cos(kPi / 8), 1e-9);  // the chord's middle
-  EXPECT_NEAR(distance(onChord.point, nearestOnPolyline(*polyline, p)), 0, 1e-12);
+  EXPECT_NEAR(distance(onChord.point, nearestOnPolyline(*polyline, p).point), 0, 1e-12);
   EXPECT_GT(distance(onArc.point, onChord.point), 0.1);
 }
 
@@ -134,6 +134,24 @@ TEST(CurveRegistry, RegistersAGraphByItsPolylinesOrigins) {
   EXPECT_NEAR(radiusAboutZ(curves.ontoCurve(0, {1, 1, 4})), 2, 1e-7);
   EXPECT_EQ(curves.entryOf(1), -1);
   EXPECT_EQ(curves.ontoCurve(1, {0.5, 1, 1}), (Point3{0.5, 0, 1}));
+}
+
+// The foot on a polyline every feature layer measures with (Geometry.h): its segment, the
+// position along it, and the first segment where two are as near.
+TEST(CurveRegistry, NearestPointOfAPolylineNamesItsSegmentAndPosition) {
+  const std::vector<Point3> bend{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}};
+  const PolylineFoot onSecond = nearestOnPolyline(bend, {3, 1, 0});
+  EXPECT_EQ(onSecond.segment, 1u);
+  EXPECT_DOUBLE_EQ(onSecond.along, 0.5);
+  EXPECT_EQ(onSecond.point, (Point3{2, 1, 0}));
+  EXPECT_DOUBLE_EQ(onSecond.distance, 1);
+  const PolylineFoot atCorner = nearestOnPolyline(bend, {3, -1, 0});  // both segments end there
+  EXPECT_EQ(atCorner.segment, 0u);
+  EXPECT_DOUBLE_EQ(atCorner.along, 1);
+  EXPECT_DOUBLE_EQ(atCorner.distance, std::sqrt(2.0));
+  const PolylineFoot single = nearestOnPolyline({{1, 1, 1}}, {1, 1, 4});
+  EXPECT_EQ(single.point, (Point3{1, 1, 1}));
+  EXPECT_DOUBLE_EQ(single.distance, 3);
 }
 
 }  // namespace

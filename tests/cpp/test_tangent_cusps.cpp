@@ -40,12 +40,6 @@ Point3 exactLeaving(const FeaturePolyline& pl, bool atBack) {
 
 const auto kEdgeSize = [](const Point3&) { return 2.0; };
 
-double distanceToPolyline(const std::vector<Point3>& points, const Point3& p) {
-  double best = INFINITY;
-  for (size_t k = 0; k + 1 < points.size(); ++k) best = std::min(best, distanceToSegment(p, points[k], points[k + 1]));
-  return best;
-}
-
 int endsAt(const FeatureGraph& graph, const Point3& p) {
   int n = 0;
   for (const FeaturePolyline& pl : graph.polylines) n += (pl.points.front() == p) + (pl.points.back() == p);
@@ -83,7 +77,7 @@ TEST(TangentCusps, TheShorterCurveStartsOnTheLongerWhereTheyPartByAQuarterOfTheE
   EXPECT_EQ(parabola->points[3], (Point3{8, 3.2, 0}));
   // Every sample the parabola lost lies within a quarter of the edge size of the line's chain.
   for (const Point3& p : graph.polylines[1].points)
-    if (p[0] < 3) EXPECT_LT(distanceToPolyline(graph.polylines[0].points, p), 0.5);
+    if (p[0] < 3) EXPECT_LT(nearestOnPolyline(graph.polylines[0].points, p).distance, 0.5);
   // The two now leave their shared end at over 10 degrees (atan(0.8 / 2) = 21.8).
   const Point3 along = parabola->points[1] - parabola->points[0];
   EXPECT_NEAR(std::atan2(along[1], along[0]) * 180 / M_PI, 21.8, 0.05);

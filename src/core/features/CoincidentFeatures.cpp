@@ -10,13 +10,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double distanceToPolyline(const Point3& p, const FeaturePolyline& pl) {
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i + 1 < pl.points.size(); ++i)
-    best = std::min(best, distanceToSegment(p, pl.points[i], pl.points[i + 1]));
-  return best;
-}
-
 // Whether points lie on the curve a polyline samples. The polyline's chords are within the
 // sampling sagitta of that curve; a B-rep edge polyline is asked about its exact edge.
 class SampledCurves {
@@ -27,7 +20,7 @@ class SampledCurves {
   // `exact`: p is a sample of an exact curve (a polyline vertex), so on a shared curve it is on
   // the edge to rounding; otherwise p is a chord point, up to a sagitta off.
   bool onCurve(const Point3& p, const FeaturePolyline& pl, bool exact) const {
-    const double chord = distanceToPolyline(p, pl);
+    const double chord = nearestOnPolyline(pl.points, p).distance;
     if (chord < tol_) return true;
     if (!(curveTol_ > 0) || chord >= curveTol_ + tol_) return false;
     const BrepTopology* solid = solidOf(pl);

@@ -53,7 +53,7 @@ BoundaryProjection CurveRegistry::project(int curve, const Point3& p) const {
   const Origin& origin = it->second;
   if (origin.junction >= 0 && origin.junctions) return origin.junctions->projectOnCurve(origin.junction, p);
   if (origin.user) {
-    const Point3 q = origin.user_curve ? origin.user_curve->nearest(p) : nearestOnPolyline(*origin.user, p);
+    const Point3 q = origin.user_curve ? origin.user_curve->nearest(p) : nearestOnPolyline(*origin.user, p).point;
     return {q, -1, distance(p, q)};
   }
   if (origin.entry < 0 || origin.edge < 0) return {};

@@ -458,23 +458,6 @@ double closestSegmentPoints(const Point3& p1, const Point3& q1, const Point3& p2
   return distance(p1 + s * d1, p2 + t * d2);
 }
 
-double distanceToPolyline(const Point3& p, const std::vector<Point3>& pts, size_t* segment = nullptr,
-                          double* along = nullptr) {
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i + 1 < pts.size(); ++i) {
-    const Point3 d = pts[i + 1] - pts[i];
-    const double l2 = dot(d, d);
-    const double u = l2 > 0 ? std::clamp(dot(p - pts[i], d) / l2, 0.0, 1.0) : 0.0;
-    const double dist = distance(p, pts[i] + u * d);
-    if (dist < best) {
-      best = dist;
-      if (segment) *segment = i;
-      if (along) *along = u;
-    }
-  }
-  return best;
-}
-
 double longestSegment(const FeaturePolyline& pl) {
   double l = 0;
   for (size_t i = 0; i + 1 < pl.points.size(); ++i) l = std::max(l, distance(pl.points[i], pl.points[i + 1]));
@@ -507,10 +490,7 @@ FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& juncti
         if (std::isfinite(q.distance)) return q.point;
       }
     }
-    size_t s = 0;
-    double u = 0;
-    distanceToPolyline(p, pl.points, &s, &u);
-    return pl.points[s] + u * (pl.points[s + 1] - pl.points[s]);
+    return nearestOnPolyline(pl.points, p).point;
   };
 
   std::vector<double> reach(all.size());
@@ -553,7 +533,7 @@ FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& juncti
             if (distance(onJ, onK) > weld) continue;
             const Point3 c = k < sharpCount ? onK : onJ;  // a B-rep edge is the exact one
             // The exact curves may meet beyond the (clipped) polylines.
-            if (distanceToPolyline(c, pj) > reach[j] || distanceToPolyline(c, pk) > reach[k]) continue;
+            if (nearestOnPolyline(pj, c).distance > reach[j] || nearestOnPolyline(pk, c).distance > reach[k]) continue;
             contacts.push_back({c, j, k});
           }
       }
@@ -614,9 +594,7 @@ FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& juncti
         }
         continue;
       }
-      size_t s = 0;
-      double u = 0;
-      distanceToPolyline(q, pts, &s, &u);
+      const size_t s = nearestOnPolyline(pts, q).segment;
       pts.insert(pts.begin() + s + 1, q);
       split.insert(split.begin() + s + 1, 1);
     }

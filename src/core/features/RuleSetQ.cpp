@@ -42,7 +42,7 @@ void closestParameters(const Point3& a, const Point3& b, const Point3& c, const 
 // `tolerance`).
 bool shareAStretch(const FeaturePolyline& x, const FeaturePolyline& y, double tolerance) {
   auto on = [&](const FeaturePolyline& pl, const Point3& p) {
-    return distance(nearestOnPolyline(pl.points, p), p) <= tolerance;
+    return nearestOnPolyline(pl.points, p).distance <= tolerance;
   };
   for (const auto& [from, to] : {std::pair{&x, &y}, std::pair{&y, &x}})
     for (size_t k = 0; k + 1 < from->points.size(); ++k)
@@ -210,7 +210,7 @@ FeatureGraph splitAtCrossings(const FeatureGraph& graph, double tolerance, doubl
           // neither end lies on the other curve: then they cross a short way from both ends
           // (an overhanging box's bottom edge across the top edge of the box it stands on).
           auto liesOn = [&](const Point3& end, const FeaturePolyline& other) {
-            return distance(nearestOnPolyline(other.points, end), end) <= curveTolerance;
+            return nearestOnPolyline(other.points, end).distance <= curveTolerance;
           };
           const bool crossingNearBothEnds =
               atEndOfFirst && atEndOfSecond && !liesOn(endOfFirst, second) && !liesOn(endOfSecond, first);

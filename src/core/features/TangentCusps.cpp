@@ -50,7 +50,7 @@ std::optional<Trim> trimAgainst(const FeatureGraph& graph, const Point3& vertex,
   size_t parted = 1;
   double width = 0;
   for (; parted < trimmed.size(); ++parted) {
-    width = distance(trimmed[parted], nearestOnPolyline(*kept.points, trimmed[parted]));
+    width = nearestOnPolyline(*kept.points, trimmed[parted]).distance;
     if (width >= widthPerEdgeSize * edgeSize(trimmed[parted])) break;
   }
   parting = parted == 1 ? Parting::AtOnce : parted == trimmed.size() ? Parting::Never : Parting::Parted;

@@ -106,18 +106,6 @@ FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polyli
   return graph;
 }
 
-Point3 nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p) {
-  Point3 best = polyline.front();
-  for (size_t k = 0; k + 1 < polyline.size(); ++k) {
-    const Point3 u = polyline[k + 1] - polyline[k];
-    const double uu = dot(u, u);
-    const double t = uu > 0 ? std::clamp(dot(p - polyline[k], u) / uu, 0.0, 1.0) : 0.0;
-    const Point3 q = polyline[k] + t * u;
-    if (distance(p, q) < distance(p, best)) best = q;
-  }
-  return best;
-}
-
 struct UserCurve::Data {
   TopoDS_Edge edge;
   std::string where;

@@ -23,9 +23,6 @@ FeatureGraph userPolylineFeatures(const std::vector<std::vector<Point3>>& polyli
                                   double maxSegmentLength,
                                   const std::vector<std::shared_ptr<const UserCurve>>& curves = {});
 
-// Nearest point of a polyline (the user curve is the polyline itself).
-Point3 nearestOnPolyline(const std::vector<Point3>& polyline, const Point3& p);
-
 // The exact CAD edge a user polyline was sampled from (FreeCAD's extra edges): the polyline's
 // points lie on it, and mesh nodes between them are put onto it rather than onto the chords.
 class UserCurve {
