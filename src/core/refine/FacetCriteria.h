@@ -19,7 +19,7 @@ struct FacetShape {
   bool cornersOnBoundary = true;    // false when a corner is an interior (or infinite) vertex
   double bridge = 0;                // empty space the dual edge crosses between two materials
   bool offInterface = false;        // between two materials: a corner off one of the parts
-  bool acrossSharpEdge = false;     // two corners on two faces of one B-rep that meet at a sharp edge
+  bool acrossSharpEdge = false;     // two corners on two faces of one B-rep meeting at under 60 degrees
 };
 
 // The facet's three vertices must lie on the boundary (T2's first premise).

@@ -71,7 +71,7 @@ struct FacetData {
   // lies farther than the contact tolerance from one of the two parts (FacetCriteria.h).
   double bridge = 0;
   bool offInterface = false;
-  bool acrossSharpEdge = false;  // two corners on faces that meet at a sharp edge (FacetCriteria.h)
+  bool acrossSharpEdge = false;  // two corners on faces meeting at under 60 degrees (FacetCriteria.h)
 };
 
 struct CellInfo {
