@@ -233,15 +233,17 @@ TEST(ThesisSharedModels, ScrewChamferFoldsGoAtTheDefaultFineness) {
 }
 
 // screw.step at issue 15's size (cell and facet size diagonal / 25, facet distance diagonal /
-// 1000, under the moderate fineness' field): where its slot meets the 45-degree chamfer, facets with a corner on the slot's bottom
-// and one on the chamfer cone spanned the wedge between them, the wedge's tip under them was
-// left out of the mesh, and a flat tet at that notch's rim joined two fans of tets at one
-// vertex (2.4e-13 degrees; no improvement may take it: the part would be pinched there). Such
-// facets are refined now (FacetAcrossSharpEdgeCriterion) and no tet is under 15 degrees.
+// 1000, under the moderate fineness' field): where its slot meets the 45-degree chamfer,
+// facets with a corner on the slot's bottom and one on the chamfer cone spanned the wedge
+// between them, the wedge's tip under them was left out of the mesh, and a flat tet at that
+// notch's rim joined two fans of tets at one vertex (2.4e-13 degrees; no improvement may take
+// it: the part would be pinched there). Such facets are refined now
+// (FacetAcrossSharpEdgeCriterion) and no tet is under 15 degrees.
 TEST(ThesisSharedModels, ScrewSlotMeetsItsChamferWithoutAFoldAtIssue15Size) {
   const double diagonal = 103.10346540646871;
   const json size = {{"cell_size", diagonal / 25}, {"facet_size", diagonal / 25}, {"facet_distance", diagonal / 1000}};
-  const SharedModelRun run = meshSharedModel("screw.step", "screw", {{"criteria", {{"fineness", "moderate"}, {"default", size}}}});
+  const SharedModelRun run =
+      meshSharedModel("screw.step", "screw", {{"criteria", {{"fineness", "moderate"}, {"default", size}}}});
   const json& report = run.result.report;
   const TetMesh& m = run.result.mesh;
   ASSERT_NEAR(report.at("bbox_diagonal").get<double>(), diagonal, 1e-6 * diagonal);
