@@ -23,10 +23,6 @@
 namespace oraclemesh {
 namespace {
 
-double distanceToSegment(const Point3& p, const Point3& a, const Point3& b) {
-  return nearestOnPolyline({a, b}, p).distance;
-}
-
 // Length of the segment a-b covered by mesh feature edges lying on it.
 double coveredLength(const TetMesh& mesh, const Point3& a, const Point3& b, double tolerance) {
   double length = 0;

@@ -7,8 +7,6 @@
 #include <set>
 #include <utility>
 
-#include "features/UserPolylines.h"
-
 namespace oraclemesh {
 namespace {
 

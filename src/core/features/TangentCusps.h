@@ -5,12 +5,12 @@
 // With both curves as chains of mesh edges, the tets at the vertex span that width and are flat
 // (under 2 degrees at presse_asm's nut), and refinement chases the cusp down to the terminator
 // length. No mesh whose elements keep some least size there can have both curves and good
-// tets, so near the cusp one curve stands for both: the shorter curve's polyline starts on the longer one's chain at
-// the sample where the two part by a given share of the local edge size, and the face between
-// them is left out over that stretch (it is narrower than that share of an element there). The
-// curves then leave that point at an angle that grows with the share (a quarter of the edge
-// size across a chord of at most the edge size: 14 degrees or more), which the engines treat as
-// any small input angle.
+// tets, so near the cusp one curve stands for both: the shorter curve's polyline starts on the
+// longer one's chain at the sample where the two part by a given share of the local edge size,
+// and the face between them is left out over that stretch (it is narrower than that share of an
+// element there). The curves then leave that point at an angle that grows with the share (a
+// quarter of the edge size across a chord of at most the edge size: 14 degrees or more), which
+// the engines treat as any small input angle.
 #include <functional>
 #include <string>
 #include <vector>

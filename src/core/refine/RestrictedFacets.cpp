@@ -5,6 +5,7 @@
 // edge crosses the composite boundary (the multi-label setting of Pons et al. 2007).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Error.h"
 #include "refine/FacetCriteria.h"
@@ -106,11 +107,16 @@ int RuleSetTRefiner::patchOf(VH v) const {
 bool RuleSetTRefiner::acrossSharpEdge(CH c, int i) const {
   const auto& pairs = options_.faces_meeting_at_small_dihedrals;
   if (pairs.empty()) return false;
+  // Only the parts with such an edge have their vertices' faces projected.
+  const auto hasPair = [&](int entry) {
+    const auto it = pairs.lower_bound({entry, std::numeric_limits<int>::min(), std::numeric_limits<int>::min()});
+    return it != pairs.end() && std::get<0>(*it) == entry;
+  };
   std::array<std::pair<int, int>, 3> onFace;  // (entry, face) of each corner, (-1, -1) if none
   for (int k = 0; k < 3; ++k) {
     const VH w = c->vertex((i + 1 + k) & 3);
     onFace[k] = {-1, -1};
-    if (dt_.is_infinite(w)) continue;
+    if (dt_.is_infinite(w) || !hasPair(w->info().boundaryEntry)) continue;
     const int patch = patchOf(w);
     if (patch >= 0) onFace[k] = {w->info().boundaryEntry, patch};
   }
