@@ -21,18 +21,24 @@ built=$(date +%s)
 echo "tests/run.sh: clean build took $((built - start)) s"
 
 status=0
-# ctest and pytest side by side, one core each: the FreeCAD tests are mostly one busy
-# process, so running them after ctest left a core idle for half the run. The checks
-# labelled "long" (tens of minutes) belong to the benchmarks: ctest -L long.
+# Two streams, one core each: pytest (its FreeCAD presse test alone is a quarter of an hour) and
+# ctest followed by the fuzz targets, which ran after both and left a core idle for the end of
+# pytest. The checks labelled "long" (tens of minutes) belong to the benchmarks: ctest -L long.
+# The fuzz step builds the parsers, readers and B-rep loading with clang and runs each under
+# libFuzzer for 6 s (a long run of one target: bash tests/fuzz/run.sh 600 nrrd).
 ctest_log="$ORACLEMESH_TEST_OUTPUT/ctest.log"
-ctest --test-dir "$build" --output-on-failure -LE long -j1 >"$ctest_log" 2>&1 &
-ctest_pid=$!
+fuzz_log="$ORACLEMESH_TEST_OUTPUT/fuzz.log"
+(
+  stream=0
+  ctest --test-dir "$build" --output-on-failure -LE long -j1 >"$ctest_log" 2>&1 || stream=1
+  bash tests/fuzz/run.sh 6 >"$fuzz_log" 2>&1 || stream=1
+  exit $stream
+) &
+second_stream=$!
 PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -p no:cacheprovider \
   -v --durations=15 tests/python tests/freecad || status=1
-wait "$ctest_pid" || status=1
+wait "$second_stream" || status=1
 cat "$ctest_log"
-# The parsers, readers and B-rep loading under libFuzzer, briefly, 6 s a target (its own small clang
-# build; a long run of one target: bash tests/fuzz/run.sh 600 nrrd).
-bash tests/fuzz/run.sh 6 || status=1
+cat "$fuzz_log"
 echo "tests/run.sh: build + tests took $(( $(date +%s) - start )) s"
 exit $status
