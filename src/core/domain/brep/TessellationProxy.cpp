@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "Error.h"
 
@@ -73,6 +74,8 @@ void BrepSolid::Impl::buildProxy(bool tessellate) {
     // midpoints against the flat triangle there. BRepMesh's own figure is an estimate.
     BRepAdaptor_Surface surface(faces[f], Standard_True);
     const Handle(Geom_Surface) exactSurface = BRep_Tool::Surface(faces[f]);
+    // One projector per face: a fresh one samples the whole surface on a grid again at every point.
+    std::optional<GeomAPI_ProjectPointOnSurf> projector;
     // Nodes on an edge of the triangulation that is not shared by exactly two triangles.
     std::vector<char> boundaryNode(tri->NbNodes() + 1, 0);
     {
@@ -147,9 +150,15 @@ void BrepSolid::Impl::buildProxy(bool tessellate) {
           // bound is large (strongly non-uniform parametrisations) ask for the true distance,
           // so that a distorted parametrisation does not widen the exact band for nothing.
           if (deviation > requested) {
-            GeomAPI_ProjectPointOnSurf projection(onTriangle, exactSurface);
-            if (projection.IsDone() && projection.NbPoints() > 0)
-              deviation = std::min(deviation, projection.LowerDistance());
+            if (!projector) {
+              double u0, u1, v0, v1;
+              exactSurface->Bounds(u0, u1, v0, v1);
+              projector.emplace();
+              projector->Init(exactSurface, u0, u1, v0, v1);
+            }
+            projector->Perform(onTriangle);
+            if (projector->IsDone() && projector->NbPoints() > 0)
+              deviation = std::min(deviation, projector->LowerDistance());
           }
           measured = std::max(measured, deviation);
         }
