@@ -267,8 +267,9 @@ TEST(ThesisSharedModels, ScrewSlotMeetsItsChamferWithoutAFoldAtIssue15Size) {
 // tets within the job's criteria rather than the old tets' sizes lift the rest (3.7 degrees,
 // 1 / 6 / 9; the one under 5 at a 42-degree input angle); curves sampled at their local size
 // instead of their smallest and cells at twice the curvature's surface sizes leave none under
-// 15 (15.5 degrees). What it keeps: every feature edge a mesh edge, every boundary node on the
-// part, the volume within the curved-move bound.
+// 15 (15.5 degrees); the curved-move bound on the net volume change rather than on the sum of
+// the changes' sizes lets the stage reach its 20-degree goal. What it keeps: every feature edge
+// a mesh edge, every boundary node on the part, the volume within the curved-move bound.
 TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   const SharedModelRun run =
       meshSharedModel("Kurbelwelle.stp", "Kurbelwelle", {{"criteria", {{"fineness", "moderate"}}}});
@@ -277,8 +278,9 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   expectConforming(m);
   EXPECT_EQ(test::featureEdgesNotTetEdges(m), 0);
   EXPECT_GE(improve.at("operations").at("edge_collapses").get<int>(), 10);
-  EXPECT_GT(improve.at("min_dihedral_after_deg").get<double>(), 10);
-  EXPECT_EQ(improve.at("tets_under_10_deg").get<int>(), 0);
+  EXPECT_EQ(improve.at("tets_under_15_deg").get<int>(), 0);
+  // Issue 15's moonshot, 20 degrees, is the stage's goal (15.5 with the bound on the sum).
+  EXPECT_GE(improve.at("min_dihedral_after_deg").get<double>(), 19.5);
   // The stage moves the volume by at most its two curved bounds, for moves and collapses and for
   // curved caps (tet4 chords are 0.7 % short of the part with or without it).
   EXPECT_LE(improve.at("curved_moves_largest_volume_share").get<double>(), 1e-5 * (1 + 1e-9));

@@ -456,7 +456,27 @@ TEST(ImproveSmoothing, CurvedSurfaceVertexStaysOnItsSurface) {
   // The chords over the sphere changed, so the volume did, and the stage counted it.
   const double share = std::abs(test::volumePerMaterial(m).at(1) / test::volumePerMaterial(before).at(1) - 1);
   EXPECT_GT(share, 0);
-  EXPECT_NEAR(work.largestVolumeShareMoved(), share, 1e-12);
+  EXPECT_NEAR(work.largestVolumeShareChanged(), share, 1e-12);
+}
+
+// The bound is on each material's net change: a change back the other way always fits, one
+// that would take the net past the bound on either side never does.
+TEST(ImproveSmoothing, CurvedVolumeBoundIsOnTheNetChange) {
+  TetMesh m = fanOverSphericalBase();
+  const double volume = test::volumePerMaterial(m).at(1);
+  const AnalyticPlacement sphere(kSphereCentre, kSphereRadius);
+  const double bound = 1e-3;
+  ImprovementMesh work(m, &sphere, bound);
+  const double limit = bound * volume;
+  ASSERT_TRUE(work.volumeFits({{1, 0.8 * limit}}));
+  work.addVolumeChange({{1, 0.8 * limit}});
+  EXPECT_FALSE(work.volumeFits({{1, 0.4 * limit}}));
+  EXPECT_TRUE(work.volumeFits({{1, -1.5 * limit}}));  // to -0.7: its absolute sum would be 2.3
+  EXPECT_FALSE(work.volumeFits({{1, -1.9 * limit}}));
+  work.addVolumeChange({{1, -1.5 * limit}});
+  EXPECT_NEAR(work.largestVolumeShareChanged(), 0.7 * bound, 1e-12);
+  EXPECT_TRUE(work.volumeFits({{1, 1.6 * limit}}));
+  EXPECT_FALSE(work.volumeFits({{2, 1e-30}}));  // a material the mesh does not have
 }
 
 TEST(ImproveSmoothing, CurvedSurfaceVertexStaysWithoutAPlacementOrVolumeBound) {

@@ -194,7 +194,7 @@ bool collapseEdge(ImprovementMesh& mesh, int64_t v, int64_t u, const SizeCriteri
   }
   if (curved && !mesh.volumeFits(volumeChange)) return false;
   if (!linkConditionHolds(mesh, v, u)) return false;
-  if (curved) mesh.spendVolume(volumeChange);
+  if (curved) mesh.addVolumeChange(volumeChange);
   mesh.collapse(v, u);
   return true;
 }

@@ -48,22 +48,22 @@ bool ImprovementMesh::volumeFits(const std::map<int, double>& change) const {
   for (const auto& [material, dv] : change) {
     const auto total = material_volume_.find(material);
     if (total == material_volume_.end()) return false;
-    const auto moved = volume_moved_.find(material);
-    const double before = moved == volume_moved_.end() ? 0 : moved->second;
-    if (before + std::abs(dv) > curved_volume_bound_ * std::abs(total->second)) return false;
+    const auto sofar = volume_change_.find(material);
+    const double before = sofar == volume_change_.end() ? 0 : sofar->second;
+    if (std::abs(before + dv) > curved_volume_bound_ * std::abs(total->second)) return false;
   }
   return true;
 }
 
-void ImprovementMesh::spendVolume(const std::map<int, double>& change) {
-  for (const auto& [material, dv] : change) volume_moved_[material] += std::abs(dv);
+void ImprovementMesh::addVolumeChange(const std::map<int, double>& change) {
+  for (const auto& [material, dv] : change) volume_change_[material] += dv;
 }
 
-double ImprovementMesh::largestVolumeShareMoved() const {
+double ImprovementMesh::largestVolumeShareChanged() const {
   double share = 0;
-  for (const auto& [material, moved] : volume_moved_) {
+  for (const auto& [material, net] : volume_change_) {
     const double total = std::abs(material_volume_.at(material));
-    if (total > 0) share = std::max(share, moved / total);
+    if (total > 0) share = std::max(share, std::abs(net) / total);
   }
   return share;
 }

@@ -39,9 +39,10 @@ struct VertexMobility {
 class ImprovementMesh {
  public:
   // With `placement`, vertices on curved patches and curves move too (Curved, OnCurve); each
-  // material's volume may then change, by at most `curvedVolumeBound` of it in all (absolute
-  // changes summed): a vertex moved from one point of a curved face to another changes the
-  // chords, not the face.
+  // material's volume may then change, by at most `curvedVolumeBound` of it net: a vertex moved
+  // from one point of a curved face to another changes the chords, not the face, and the
+  // changes of many moves over a face's convex and concave stretches largely cancel. (Bounding
+  // their absolute sum instead stopped the stage long before the angles were reached.)
   explicit ImprovementMesh(TetMesh& mesh, const BoundaryPlacement* placement = nullptr, double curvedVolumeBound = 0);
 
   std::vector<Point3>& points() { return points_; }
@@ -54,12 +55,12 @@ class ImprovementMesh {
   const VertexMobility& mobility(int64_t v) const { return mobility_[v]; }
   const BoundaryPlacement* placement() const { return placement_; }
 
-  // Whether the volume changes `change` (material -> signed volume) fit in what is left of each
-  // material's bound; spendVolume counts them against it.
+  // Whether each material's net volume change, with `change` (material -> signed volume) added,
+  // stays within its bound; addVolumeChange adds them.
   bool volumeFits(const std::map<int, double>& change) const;
-  void spendVolume(const std::map<int, double>& change);
-  // The largest share of a material's volume moved so far (absolute changes summed).
-  double largestVolumeShareMoved() const;
+  void addVolumeChange(const std::map<int, double>& change);
+  // The largest share of a material's volume by which the moves so far changed it (net).
+  double largestVolumeShareChanged() const;
 
   // Alive tets having both ends of the edge / all three corners of the face.
   std::vector<int64_t> tetsAroundEdge(int64_t a, int64_t b) const;
@@ -118,7 +119,7 @@ class ImprovementMesh {
   const BoundaryPlacement* placement_ = nullptr;
   double curved_volume_bound_ = 0;
   std::map<int, double> material_volume_;
-  std::map<int, double> volume_moved_;
+  std::map<int, double> volume_change_;  // per material, net, signed
   std::vector<int64_t> changed_at_;
   int64_t clock_ = 0;
   std::vector<int64_t> collapsed_into_;  // per vertex: the vertex it went onto, -1 kept

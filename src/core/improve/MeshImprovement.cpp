@@ -210,7 +210,7 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
   }
   std::vector<int64_t> renumbered = work.writeBack(mesh);
   if (previousIndex) *previousIndex = std::move(renumbered);
-  stats.curved_volume_share = work.largestVolumeShareMoved();
+  stats.curved_volume_share = work.largestVolumeShareChanged();
   stats.min_dihedral_after = meshMinDihedral(mesh);
   stats.after = countPoorTets(mesh);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

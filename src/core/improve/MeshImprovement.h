@@ -32,7 +32,7 @@ struct ImprovementOptions {
   double flat_cap_volume_bound = 1e-9;
   // Puts vertices moved on curved faces and curves back onto them; null: those stay.
   const BoundaryPlacement* placement = nullptr;
-  // The share of each material's volume such moves may change in all (absolute changes summed);
+  // The share of each material's volume by which such moves may change it (net, ImprovementMesh.h);
   // caps on curved pieces (FlatCaps.h, with a placement only) get the same share apart.
   double curved_volume_bound = 1e-5;
   // A cap on a curved piece: its corners within this share of its longest edge of one plane.
@@ -63,7 +63,7 @@ struct ImprovementStats {
   int64_t smoothed_feature = 0;  // along a straight curve
   int64_t smoothed_curved_surface = 0;  // on a curved face, put back onto it
   int64_t smoothed_curved_feature = 0;  // on a curved curve, put back onto it
-  double curved_volume_share = 0;       // the largest share of a material's volume those moved
+  double curved_volume_share = 0;       // the largest share of a material's volume those changed (net)
   FlatCapStats flat_caps;
   int passes = 0;
   bool stopped_by_time_limit = false;

@@ -229,7 +229,7 @@ bool smoothVertex(ImprovementMesh& mesh, int64_t v, const SizeCriteria& sizes) {
     if (!moved) break;
   }
   if (position == start) return false;
-  if (curved) mesh.spendVolume(star.volumeChange(start, position));
+  if (curved) mesh.addVolumeChange(star.volumeChange(start, position));
   p[v] = position;
   mesh.markMoved(v);
   return true;
