@@ -27,4 +27,19 @@ inline std::vector<TopoDS_Shape> plateWithPin() {
               .Shape()};
 }
 
+// As at presse_asm.step's circle r = 12, y = 188.5: a rod (first priority) stands in the bore
+// of a block and goes on through a nut under it, whose top face is flush with the block's
+// bottom face. The bore's bottom edge (a sharp edge of the block) and the junction where the rod
+// leaves the nut's top face are the same circle, and a crease: rod, block and nut meet there.
+// {rod, block, nut}.
+constexpr double kRodRadius = 12;
+
+inline std::vector<TopoDS_Shape> rodThroughBoreOntoNut() {
+  const gp_Dir up(0, 0, 1);
+  const TopoDS_Shape bore = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), up), kRodRadius, 30).Shape();
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(-30, -30, 0), 60, 60, 30).Shape();
+  return {BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -25), up), kRodRadius, 45).Shape(),
+          BRepAlgoAPI_Cut(block, bore).Shape(), BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -15), 40, 40, 15).Shape()};
+}
+
 }  // namespace oraclemesh::test

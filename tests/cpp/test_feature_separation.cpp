@@ -104,5 +104,41 @@ TEST(CoincidentFeatures, AnArcSampledByTwoPartsInContactIsKeptOnce) {
   EXPECT_NEAR(lengthOnCircle(once, test::kPinLength, test::kPinRadius), circle, 0.01 * circle);
 }
 
+TEST(CoincidentFeatures, APieceOfAnEdgeIsNotAlongTheNextPieceOfTheSameEdge) {
+  // One B-rep edge cut into two pieces (as where a junction ends on it) 0.05 mm before one of
+  // its samples: the second piece's short first segment lies on the first piece's exact edge,
+  // but beyond that piece's end, so it is not along it and must stay.
+  const auto shapes = test::plateWithPin();
+  const std::vector<OracleEntry> entries = {{std::make_shared<BrepSolid>(shapes[1], "pin"), Role::Material, 1}};
+  const HierarchicalOracle oracle(entries);
+  const double edgeSize = 4;
+  const FeatureGraph sharp = extractSharpEdges(static_cast<const BrepSolid&>(*entries[0].source), 0, 30, edgeSize);
+  FeatureGraph pieces;
+  for (const FeaturePolyline& pl : sharp.polylines) {
+    if (std::abs(pl.points.front()[2] - test::kPinLength) > 1e-9 || pl.points.size() < 4) {
+      pieces.polylines.push_back(pl);
+      continue;
+    }
+    // The cut: on the circle, 0.05 mm of arc before the polyline's fourth point.
+    const double fourth = std::atan2(pl.points[3][1], pl.points[3][0]);
+    const double back = std::remainder(std::atan2(pl.points[2][1], pl.points[2][0]) - fourth, 2 * 3.14159265358979323846);
+    const double angle = fourth + std::copysign(0.05 / test::kPinRadius, back);
+    const Point3 cut{test::kPinRadius * std::cos(angle), test::kPinRadius * std::sin(angle), test::kPinLength};
+    FeaturePolyline first = pl, second = pl;
+    first.points.assign(pl.points.begin(), pl.points.begin() + 3);
+    first.points.push_back(cut);
+    second.points.assign(1, cut);
+    second.points.insert(second.points.end(), pl.points.begin() + 3, pl.points.end());
+    pieces.polylines.push_back(first);
+    pieces.polylines.push_back(second);
+  }
+  const double circle = 2 * 3.14159265358979323846 * test::kPinRadius;
+  ASSERT_NEAR(lengthOnCircle(pieces, test::kPinLength, test::kPinRadius), circle, 0.01 * circle);
+  const FeatureGraph kept =
+      removeCoincidentFeatures(pieces, oracle, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()));
+  EXPECT_NEAR(lengthOnCircle(kept, test::kPinLength, test::kPinRadius),
+              lengthOnCircle(pieces, test::kPinLength, test::kPinRadius), 1e-9);
+}
+
 }  // namespace
 }  // namespace oraclemesh

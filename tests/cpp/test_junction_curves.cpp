@@ -10,9 +10,12 @@
 #include <map>
 #include <set>
 
+#include "close_curve_shapes.h"
 #include "domain/BrepSolid.h"
 #include "domain/HierarchicalOracle.h"
 #include "features/BrepSharpEdges.h"
+#include "features/CoincidentFeatures.h"
+#include "features/CurveSampling.h"
 #include "features/JunctionCurves.h"
 
 namespace oraclemesh {
@@ -310,6 +313,50 @@ TEST(JunctionCurves, PinOnTheCutFaceEndsThreeJunctionsAtOnePoint) {
     EXPECT_EQ(distinct, 1) << c[1] << " " << c[2];
     EXPECT_EQ(n, 3) << c[1] << " " << c[2];
   }
+}
+
+TEST(JunctionCurves, AJunctionAlongASharpEdgeIsNotCutIntoPieces) {
+  // The junction (rod leaving the nut's face) runs all along the bore's edge, sampled more
+  // coarsely: its chords come close to the edge's everywhere, which once split both curves at
+  // dozens of arbitrary points, and the pieces' neighbours were then dropped as "along" each
+  // other, leaving gaps in the crease (the presse's worst tets sat in them).
+  const auto shapes = test::rodThroughBoreOntoNut();
+  const char* names[] = {"rod", "block", "nut"};
+  std::vector<OracleEntry> entries;
+  for (int i = 0; i < 3; ++i)
+    entries.push_back({std::make_shared<BrepSolid>(shapes[i], names[i]), Role::Material, i + 1});
+  const HierarchicalOracle oracle(entries);
+  const JunctionCurves junctions = JunctionCurves::compute(oracle);
+  const double edgeSize = 4;
+  const FeatureGraph joined = joinJunctions(clippedSharpEdges(oracle, 1), junctions.polylines(edgeSize), oracle, junctions);
+  auto onCircle = [](const Point3& p) {
+    return std::abs(p[2]) < 1e-9 && std::abs(std::hypot(p[0], p[1]) - test::kRodRadius) < 1e-9;
+  };
+  std::vector<Point3> circleEnds;
+  for (const FeaturePolyline& pl : joined.polylines)
+    for (const Point3& end : {pl.points.front(), pl.points.back()})
+      if (onCircle(end) && std::none_of(circleEnds.begin(), circleEnds.end(), [&](const Point3& q) { return near(q, end, 1e-6); }))
+        circleEnds.push_back(end);
+  // The ends are the B-rep vertices of the bore's edge and of the section edges (seams), not
+  // points where chords happened to pass close.
+  EXPECT_GE(circleEnds.size(), 1u);
+  EXPECT_LE(circleEnds.size(), 2u);
+
+  const FeatureGraph once =
+      removeCoincidentFeatures(joined, oracle, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()));
+  double length = 0;
+  std::map<Point3, int> ends;
+  for (const FeaturePolyline& pl : once.polylines) {
+    if (!std::all_of(pl.points.begin(), pl.points.end(), onCircle)) continue;
+    for (size_t k = 0; k + 1 < pl.points.size(); ++k) length += distance(pl.points[k], pl.points[k + 1]);
+    if (pl.points.front() == pl.points.back()) continue;
+    ++ends[pl.points.front()];
+    ++ends[pl.points.back()];
+  }
+  // Kept once, whole: as long as the circle, and the pieces close up end to end.
+  const double circle = 2 * 3.14159265358979323846 * test::kRodRadius;
+  EXPECT_NEAR(length, circle, 0.01 * circle);
+  for (const auto& [p, n] : ends) EXPECT_EQ(n, 2) << "a loose end at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
 }
 
 }  // namespace

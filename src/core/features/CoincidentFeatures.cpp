@@ -20,9 +20,16 @@ class SampledCurves {
   // `exact`: p is a sample of an exact curve (a polyline vertex), so on a shared curve it is on
   // the edge to rounding; otherwise p is a chord point, up to a sagitta off.
   bool onCurve(const Point3& p, const FeaturePolyline& pl, bool exact) const {
-    const double chord = nearestOnPolyline(pl.points, p).distance;
+    const PolylineFoot foot = nearestOnPolyline(pl.points, p);
+    const double chord = foot.distance;
     if (chord < tol_) return true;
     if (!(curveTol_ > 0) || chord >= curveTol_ + tol_) return false;
+    // Beyond the polyline's ends its curve goes on (the rest of a B-rep edge, another piece of
+    // it after a split) but the polyline does not: a point there is not along it.
+    const bool closed = pl.points.size() > 2 && pl.points.front() == pl.points.back();
+    const bool pastEnd = (foot.segment == 0 && foot.along <= 0) ||
+                         (foot.segment + 2 == pl.points.size() && foot.along >= 1);
+    if (!closed && pastEnd) return false;
     const BrepTopology* solid = solidOf(pl);
     if (!solid) return chord < curveTol_;
     return solid->projectOnEdge(p, pl.edge).distance < (exact ? tol_ : curveTol_);

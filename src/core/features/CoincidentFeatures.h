@@ -18,7 +18,8 @@ namespace oraclemesh {
 // runs along an earlier B-rep edge polyline when its ends lie on that exact edge and its chord
 // midpoint within curveTolerance of it (along an earlier junction polyline: all three within
 // curveTolerance of its chords), and the earlier polyline's vertices on this one's exact edge
-// split it there.
+// split it there. Only within the earlier polyline's ends: its exact edge goes on beyond them
+// (the next piece of a split edge) where the polyline does not.
 FeatureGraph removeCoincidentFeatures(const FeatureGraph& graph, const HierarchicalOracle& oracle,
                                       double curveTolerance = 0);
 

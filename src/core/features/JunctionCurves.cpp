@@ -470,6 +470,19 @@ Bbox boxOf(const FeaturePolyline& pl) {
   return b;
 }
 
+// The point `offset` along the polyline (backwards when negative) from `from`, clamped at the
+// polyline's ends.
+Point3 walkAlong(const std::vector<Point3>& pts, const PolylineFoot& from, double offset) {
+  size_t segment = from.segment;
+  double along = from.along * distance(pts[segment], pts[segment + 1]) + offset;  // from pts[segment]
+  while (along < 0 && segment > 0) along += distance(pts[segment - 1], pts[segment]), --segment;
+  while (segment + 2 < pts.size() && along > distance(pts[segment], pts[segment + 1]))
+    along -= distance(pts[segment], pts[segment + 1]), ++segment;
+  const double length = distance(pts[segment], pts[segment + 1]);
+  const double t = length > 0 ? std::clamp(along / length, 0.0, 1.0) : 0.0;
+  return pts[segment] + t * (pts[segment + 1] - pts[segment]);
+}
+
 }  // namespace
 
 FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& junctionPolylines,
@@ -533,7 +546,20 @@ FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& juncti
             if (distance(onJ, onK) > weld) continue;
             const Point3 c = k < sharpCount ? onK : onJ;  // a B-rep edge is the exact one
             // The exact curves may meet beyond the (clipped) polylines.
-            if (nearestOnPolyline(pj, c).distance > reach[j] || nearestOnPolyline(pk, c).distance > reach[k]) continue;
+            const PolylineFoot footJ = nearestOnPolyline(pj, c);
+            if (footJ.distance > reach[j] || nearestOnPolyline(pk, c).distance > reach[k]) continue;
+            // Where the two curves run along each other (a junction along a sharp edge: the
+            // presse's circle where a rod leaves a nut's face at the rim of a bore), the chords
+            // come close everywhere and every such contact would cut both curves at an
+            // arbitrary point; removeCoincidentFeatures drops the junction there instead. A
+            // contact is kept where the curves cross, touch or part: not on both curves a
+            // quarter segment away on either side.
+            const double step = 0.25 * distance(pj[footJ.segment], pj[footJ.segment + 1]);
+            auto onBoth = [&](const Point3& q) {
+              const Point3 qj = project(all[j], q);
+              return distance(qj, project(all[k], qj)) <= weld && nearestOnPolyline(pk, qj).distance <= reach[k];
+            };
+            if (step > weld && onBoth(walkAlong(pj, footJ, -step)) && onBoth(walkAlong(pj, footJ, step))) continue;
             contacts.push_back({c, j, k});
           }
       }

@@ -62,7 +62,8 @@ class JunctionCurves {
 // polyline touches or crosses another polyline (a junction ending on a plate edge, two
 // junctions meeting at a triple point), both are split at one shared point on their exact
 // curves (an existing sharp-edge end or B-rep vertex when there is one within 1e-6 of the
-// diagonal). Curve ids are renumbered 0, 1, ... in output order; source/edge/junction kept.
+// diagonal). Not where a junction runs along another curve (both exact curves a quarter
+// segment away on either side): removeCoincidentFeatures keeps one copy there. Curve ids are renumbered 0, 1, ... in output order; source/edge/junction kept.
 FeatureGraph joinJunctions(const FeatureGraph& sharp, const FeatureGraph& junctionPolylines,
                            const HierarchicalOracle& oracle, const JunctionCurves& junctions);
 

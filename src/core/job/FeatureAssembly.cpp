@@ -96,7 +96,8 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   }
   assembled.junctions = junctions;
   // Parts in contact along an arc sample it twice, a sagitta apart: those copies are one curve.
-  clipped = removeCoincidentFeatures(clipped, oracle, 2 * featureSagittaTolerance(edgeSize, oracle.diagonal()));
+  const double curveSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
+  clipped = removeCoincidentFeatures(clipped, oracle, 2 * curveSagitta);
   std::vector<std::shared_ptr<const UserCurve>> userCurves(job.user_polylines.size());
   for (size_t i = 0; i < job.user_polyline_curves.size() && i < userCurves.size(); ++i)
     if (!job.user_polyline_curves[i].empty())
@@ -115,9 +116,8 @@ FeatureGraph buildFeatures(const JobSpec& job, const HierarchicalOracle& oracle,
   // farther apart than that 2.5 % never meet (Kurbelwelle.stp at the default size: two arcs
   // 0.2 mm apart on parallel planes, split at a point on neither, lost two subsegments).
   const size_t unsplit = clipped.polylines.size();
-  const double crossingSagitta = sagitta > 0 ? sagitta : featureSagittaTolerance(edgeSize, oracle.diagonal());
   clipped = splitAtCrossings(
-      clipped, 0.025 * edgeSize, 2 * crossingSagitta, edgeSize,
+      clipped, 0.025 * edgeSize, 2 * curveSagitta, edgeSize,
       [&oracle](const FeaturePolyline& x, const FeaturePolyline& y) { return exactEdgeGap(oracle, x, y); },
       [&oracle](const FeaturePolyline& curve, const Point3& p) { return exactEdgePoint(oracle, curve, p); });
   assembled.crossing_pieces = static_cast<int64_t>(clipped.polylines.size() - unsplit);
