@@ -130,9 +130,12 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
   EXPECT_LE(longestAfter, longestBefore);
 
   // Collapses (interior and planar-patch vertices only: without the job's edge size no curve
-  // vertex goes) took vertices out and renumbered the rest; the curves are the same edges.
+  // vertex goes) took vertices out and renumbered the rest, insertions added interior ones
+  // (previous index -1, on no boundary triangle); the curves are the same edges.
   EXPECT_GT(s.edge_collapses, 0);
-  ASSERT_EQ(static_cast<int64_t>(previousIndex.size()), static_cast<int64_t>(before.points.size()) - s.edge_collapses);
+  ASSERT_EQ(static_cast<int64_t>(previousIndex.size()),
+            static_cast<int64_t>(before.points.size()) - s.edge_collapses + s.vertex_insertions);
+  EXPECT_EQ(std::count(previousIndex.begin(), previousIndex.end(), -1), s.vertex_insertions);
   EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);
   EXPECT_EQ(featureEdgesBefore(after, previousIndex), sorted(before.feature_edges));
   expectSameSurfaces(before, after, previousIndex, 1e-9);
@@ -248,8 +251,9 @@ TEST(ImprovementStage, KurbelwelleCurvedFacesAndCurvesMoveOnTheCad) {
   // Collapses removed vertices (the pipeline renumbers the mesh); every curve still runs between
   // the same ends, as a chain of mesh edges no longer than the edge size.
   const int64_t collapses = improve.at("operations").at("edge_collapses").get<int64_t>();
+  const int64_t insertions = improve.at("operations").at("vertex_insertions").get<int64_t>();
   EXPECT_GT(collapses, 0);
-  EXPECT_EQ(static_cast<int64_t>(after.points.size()), static_cast<int64_t>(before.points.size()) - collapses);
+  EXPECT_EQ(static_cast<int64_t>(after.points.size()), static_cast<int64_t>(before.points.size()) - collapses + insertions);
   EXPECT_EQ(curveEnds(after), curveEnds(before));
   EXPECT_LE(after.feature_edges.size(), before.feature_edges.size());
   EXPECT_EQ(test::featureEdgesNotTetEdges(after), 0);

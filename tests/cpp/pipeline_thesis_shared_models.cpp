@@ -297,6 +297,38 @@ TEST(ThesisSharedModels, KurbelwelleShortEdgesCollapseAtTheDefaultFineness) {
   expectBoundaryNodesOnTheCad(run, "Kurbelwelle.stp");
 }
 
+// Schenkel.stp at the default fineness has faces 0.061 mm wide beside 1.4 mm ones: their short
+// edges are split in two or three (at most half their length) and the refinement leaves tets of
+// 0.2 mm edges on those 0.02 - 0.03 mm subsegments, whose corners cannot move. Flips, collapses
+// and smoothing leave tets under 10 degrees there; new interior vertices beside the short
+// subsegments lift some of them. The insertion passes come after the others, so they start
+// from where those stopped and only add.
+TEST(ThesisSharedModels, SchenkelNarrowFacesGetNewVerticesAtTheDefaultFineness) {
+  const SharedModelRun run = meshSharedModel("Schenkel.stp", "Schenkel", {{"criteria", {{"fineness", "moderate"}}}});
+  const TetMesh& m = run.result.mesh;
+  const json& improve = run.result.report.at("improve");
+  const json& before = improve.at("before_insertion");
+  std::cout << "[ figures  ] Schenkel.stp default: " << improve.at("operations").at("vertex_insertions")
+            << " insertions, min dihedral " << before.at("min_dihedral_deg") << " -> "
+            << improve.at("min_dihedral_after_deg") << ", under 5/10/15 " << before.at("under_5_deg") << "/"
+            << before.at("under_10_deg") << "/" << before.at("under_15_deg") << " -> " << improve.at("tets_under_5_deg")
+            << "/" << improve.at("tets_under_10_deg") << "/" << improve.at("tets_under_15_deg") << "\n";
+  expectConforming(m);
+  EXPECT_EQ(test::featureEdgesNotTetEdges(m), 0);
+  EXPECT_GT(improve.at("operations").at("vertex_insertions").get<int>(), 0);
+  EXPECT_LT(improve.at("tets_under_15_deg").get<int>(), before.at("under_15_deg").get<int>());
+  EXPECT_LE(improve.at("tets_under_10_deg").get<int>(), before.at("under_10_deg").get<int>());
+  EXPECT_GE(improve.at("min_dihedral_after_deg").get<double>(), before.at("min_dihedral_deg").get<double>());
+  EXPECT_EQ(improve.at("tets_under_5_deg").get<int>(), 0);
+  // Inserted vertices (dimension 3) are interior: on no boundary triangle. The volume is the
+  // CAD's to the tet4 chords.
+  int64_t interiorOnBoundary = 0;
+  for (const BoundaryTriangle& b : m.boundary)
+    for (int64_t v : b.v) interiorOnBoundary += m.vertex_dimension.at(v) == 3;
+  EXPECT_EQ(interiorOnBoundary, 0);
+  EXPECT_NEAR(test::volumePerMaterial(m).at(1), run.brep_volume, 0.01 * run.brep_volume);
+}
+
 // part.step at the default fineness: a line tangent to an arc at six corners (0 - 0.15 degree
 // curve angles) left the first vertices of the two curves a hundredth of a millimetre apart,
 // each on its own curve, which no operation may join: all 78 tets under 15 degrees were there.

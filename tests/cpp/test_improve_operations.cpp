@@ -18,6 +18,7 @@
 #include "improve/ImprovementMesh.h"
 #include "improve/MeshImprovement.h"
 #include "improve/Smoothing.h"
+#include "improve/VertexInsertion.h"
 #include "improve/TetShape.h"
 #include "mesh/Quality.h"
 #include "mesh_checks.h"
@@ -627,6 +628,92 @@ TEST(ImproveCollapse, InteriorVertexGoesOntoACornerOnlyWhereNoTetGoesFlat) {
   EXPECT_GT(minDihedralOf(m), minDihedralOf(before));
   expectValid(before, m);
   EXPECT_NEAR(test::volumePerMaterial(m).at(1), 8.0, 1e-12);
+}
+
+// A sliver between two caps, every vertex a corner of the hull (none can move or go): four
+// ring points at radius 1, alternately 0.05 above and below z = 0, make the sliver; the apexes
+// (0, 0, +-1) each cap its two faces that face them. Five tets, eight hull triangles; the caps
+// are of `capMaterial` (the faces between them and the sliver are then interfaces).
+TetMesh sliverBetweenCaps(int capMaterial = 1) {
+  TetMesh m;
+  m.points = {{1, 0, 0.05}, {0, 1, -0.05}, {-1, 0, 0.05}, {0, -1, -0.05}, {0, 0, 1}, {0, 0, -1}};
+  const int64_t north = 4, south = 5;
+  m.tets = {{0, 1, 2, 3}};
+  m.tet_materials = {1};
+  for (const auto& f : {std::array<int64_t, 3>{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}) {
+    // The sliver's face faces the apex on the side its fourth ring point is not.
+    int64_t rest = 0;
+    while (std::count(f.begin(), f.end(), rest)) ++rest;
+    const double side = test::orientation(m.points[f[0]], m.points[f[1]], m.points[f[2]], m.points[rest]);
+    const int64_t apex = test::orientation(m.points[f[0]], m.points[f[1]], m.points[f[2]], m.points[north]) * side < 0 ? north : south;
+    m.tets.push_back({f[0], f[1], f[2], apex});
+    m.tet_materials.push_back(capMaterial);
+    if (capMaterial != 1) m.boundary.push_back({f, 1, capMaterial});
+  }
+  orientAll(m);
+  for (int64_t i = 0; i < 4; ++i)
+    for (int64_t apex : {north, south}) m.boundary.push_back({{i, (i + 1) % 4, apex}, capMaterial, 0});
+  m.vertex_dimension.assign(m.points.size(), 0);
+  m.vertex_curve.assign(m.points.size(), -1);
+  return m;
+}
+
+// A new vertex makes edges shorter than the old tets' (its star's radius-edge ratios, 0.87, are
+// above the sliver's and caps', 0.71): admitted within the job's ratio bound.
+SizeCriteria ratioBound(double ratio) {
+  SizeCriteria sizes;
+  sizes.cell = [](int, const Point3&) { return 10.0; };
+  sizes.cell_ratio = [ratio](int) { return ratio; };
+  return sizes;
+}
+
+// The new vertex at the origin (the sliver's centroid) replaces all five tets by the eight of
+// its star, each over a hull triangle.
+TEST(ImproveInsertion, NewVertexReplacesTheSliverAndItsCapsByItsStar) {
+  const TetMesh before = sliverBetweenCaps();
+  ASSERT_LT(minDihedralOf(before), 10);
+  TetMesh m = before;
+  ImprovementMesh work(m);
+  EXPECT_EQ(insertVertex(work, 0), -1) << "without a ratio bound above the star's";
+  const int64_t v = insertVertex(work, 0, ratioBound(2));
+  ASSERT_EQ(v, 6);
+  EXPECT_EQ(work.mobility(v).freedom, VertexFreedom::Free);
+  const std::vector<int64_t> previous = work.writeBack(m);
+  EXPECT_EQ(previous, (std::vector<int64_t>{0, 1, 2, 3, 4, 5, -1}));
+  ASSERT_EQ(m.points.size(), 7u);
+  EXPECT_EQ(m.vertex_dimension.back(), 3);
+  EXPECT_EQ(m.vertex_curve.back(), -1);
+  EXPECT_EQ(m.tets.size(), 8u);
+  for (const auto& t : m.tets) EXPECT_EQ(std::count(t.begin(), t.end(), v), 1);
+  EXPECT_EQ(m.boundary.size(), 8u);
+  EXPECT_GT(minDihedralOf(m), minDihedralOf(before) + 20);
+  expectValid(before, m);
+}
+
+// Nothing of another material, no interface triangle and no feature edge is taken: with the
+// caps of material 2 the cavity is the sliver alone, and its star (four tets from its centroid)
+// is worse than the sliver; with the sliver's diagonal a feature edge every star over the
+// whole cavity would lose that edge.
+TEST(ImproveInsertion, CavityStopsAtInterfacesAndKeepsFeatureEdges) {
+  {
+    const TetMesh before = sliverBetweenCaps(2);
+    TetMesh m = before;
+    ImprovementMesh work(m);
+    EXPECT_EQ(insertVertex(work, 0, ratioBound(100)), -1);
+    work.writeBack(m);
+    EXPECT_EQ(m.tets, before.tets);
+  }
+  {
+    TetMesh before = sliverBetweenCaps();
+    before.feature_edges = {{0, 2}};
+    before.feature_edge_curves = {0};
+    TetMesh m = before;
+    ImprovementMesh work(m);
+    insertVertex(work, 0, ratioBound(100));
+    work.writeBack(m);
+    EXPECT_TRUE(hasEdge(m, 0, 2));
+    expectValid(before, m);
+  }
 }
 
 TEST(ImproveDriver, Deterministic) {

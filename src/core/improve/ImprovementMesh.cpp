@@ -37,6 +37,7 @@ ImprovementMesh::ImprovementMesh(TetMesh& mesh, const BoundaryPlacement* placeme
   classifyVertices(mesh);
   changed_at_.assign(points_.size(), 0);
   collapsed_into_.assign(points_.size(), -1);
+  original_vertices_ = points_.size();
   if (placement_)
     for (size_t t = 0; t < tets_.size(); ++t) {
       const TetCorners& c = tets_[t];
@@ -294,6 +295,19 @@ void ImprovementMesh::collapse(int64_t v, int64_t u) {
   ++removed_vertices_;
 }
 
+int64_t ImprovementMesh::addVertex(const Point3& p) {
+  const int64_t v = static_cast<int64_t>(points_.size());
+  points_.push_back(p);
+  vertex_tets_.emplace_back();
+  VertexMobility free;
+  free.freedom = VertexFreedom::Free;
+  mobility_.push_back(free);
+  changed_at_.push_back(++clock_);
+  collapsed_into_.push_back(-1);
+  ++added_vertices_;
+  return v;
+}
+
 std::vector<int64_t> ImprovementMesh::writeBack(TetMesh& mesh) const {
   mesh.tets.clear();
   mesh.tet_materials.clear();
@@ -302,8 +316,14 @@ std::vector<int64_t> ImprovementMesh::writeBack(TetMesh& mesh) const {
       mesh.tets.push_back(tets_[t]);
       mesh.tet_materials.push_back(materials_[t]);
     }
-  if (removed_vertices_ == 0) return {};
+  if (removed_vertices_ == 0 && added_vertices_ == 0) return {};
   const size_t n = collapsed_into_.size();
+  auto extend = [&](auto& perVertex, auto value) {
+    if (perVertex.size() == original_vertices_) perVertex.resize(n, value);
+  };
+  extend(mesh.vertex_dimension, 3);
+  extend(mesh.vertex_curve, -1);
+  extend(mesh.vertex_boundary_entry, -1);
   auto finalVertex = [&](int64_t v) {
     while (collapsed_into_[v] >= 0) v = collapsed_into_[v];
     return v;
@@ -337,6 +357,8 @@ std::vector<int64_t> ImprovementMesh::writeBack(TetMesh& mesh) const {
   compact(mesh.vertex_dimension);
   compact(mesh.vertex_curve);
   compact(mesh.vertex_boundary_entry);
+  for (int64_t& v : oldIndex)
+    if (v >= static_cast<int64_t>(original_vertices_)) v = -1;
   mesh.boundary.clear();  // in the old numbering
   mesh.boundary = extractBoundary(mesh);
   return oldIndex;

@@ -88,15 +88,21 @@ class ImprovementMesh {
   void collapse(int64_t v, int64_t u);
   bool removed(int64_t v) const { return collapsed_into_[v] >= 0; }
   int64_t removedVertexCount() const { return removed_vertices_; }
+  // A new interior vertex (Free) at p, in no tet yet: vertex insertion (VertexInsertion.h)
+  // gives it its star with replace().
+  int64_t addVertex(const Point3& p);
+  int64_t addedVertexCount() const { return added_vertices_; }
   // The faces (sorted corners) of the alive tets at v that have v; those of them no other
   // alive tet has (on the outer boundary).
   std::vector<std::array<int64_t, 3>> facesAt(int64_t v) const;
   std::vector<std::array<int64_t, 3>> outerFacesAt(int64_t v) const;
 
-  // The alive tets in index order (originals first, then the ones the operations made). When
-  // vertices were removed, the mesh's points and per-vertex data are renumbered without them,
-  // its feature edges renamed and its boundary extracted again; the result gives each written
-  // vertex's index before (empty: none removed, numbering unchanged).
+  // The alive tets in index order (originals first, then the ones the operations made).
+  // Inserted vertices come after the mesh's own (interior: dimension 3, no curve, no boundary
+  // entry). When vertices were removed or inserted, the mesh's points and per-vertex data are
+  // renumbered without the removed ones, its feature edges renamed and its boundary extracted
+  // again; the result gives each written vertex's index before, -1 for an inserted one (empty:
+  // none removed or inserted, numbering unchanged).
   std::vector<int64_t> writeBack(TetMesh& mesh) const;
 
  private:
@@ -124,6 +130,8 @@ class ImprovementMesh {
   int64_t clock_ = 0;
   std::vector<int64_t> collapsed_into_;  // per vertex: the vertex it went onto, -1 kept
   int64_t removed_vertices_ = 0;
+  int64_t added_vertices_ = 0;
+  size_t original_vertices_ = 0;
 };
 
 }  // namespace oraclemesh

@@ -11,6 +11,7 @@
 #include "improve/FaceRemoval.h"
 #include "improve/ImprovementMesh.h"
 #include "improve/Smoothing.h"
+#include "improve/VertexInsertion.h"
 #include "mesh/Quality.h"
 
 namespace oraclemesh {
@@ -42,6 +43,20 @@ PoorTetCounts countPoorTets(const TetMesh& mesh) {
     c.under10 += q < 10;
     c.under15 += q < 15;
   }
+  return c;
+}
+
+PoorTetCounts countPoorTets(const ImprovementMesh& mesh, double& smallest) {
+  PoorTetCounts c;
+  smallest = 180;
+  for (int64_t t = 0; t < mesh.tetSlots(); ++t)
+    if (mesh.alive(t)) {
+      const double q = mesh.quality(t);
+      smallest = std::min(smallest, q);
+      c.under5 += q < 5;
+      c.under10 += q < 10;
+      c.under15 += q < 15;
+    }
   return c;
 }
 
@@ -151,10 +166,31 @@ class Driver {
     return false;
   }
 
+  // A new vertex for each tet still under the goal, worst first: the last resort, once flips,
+  // collapses and smoothing have done what they can (inserting earlier took the place of moves
+  // that did better, and the stage ended lower).
+  int64_t insertionSweep() {
+    int64_t changes = 0;
+    for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
+      if (!mesh_.alive(t)) continue;
+      if (static_cast<int64_t>(insertion_tried_.size()) < mesh_.tetSlots()) insertion_tried_.resize(mesh_.tetSlots(), -1);
+      bool changed = insertion_tried_[t] < 0;
+      for (int64_t v : mesh_.tet(t)) changed = changed || mesh_.changedAt(v) > insertion_tried_[t];
+      if (!changed) continue;
+      if (outOfTime()) break;
+      insertion_tried_[t] = mesh_.now();
+      if (insertVertex(mesh_, t, options_.sizes) < 0) continue;
+      ++stats_.vertex_insertions;
+      ++changes;
+    }
+    return changes;
+  }
+
   // Each vertex of a tet under the goal, once per pass, worst tet first.
   int64_t smoothingSweep() {
     int64_t changes = 0;
     std::vector<char> visited(mesh_.points().size(), 0);
+    vertex_tried_.resize(mesh_.points().size(), -1);  // inserted vertices were never tried
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
       if (!mesh_.alive(t)) continue;
       for (int64_t v : mesh_.tet(t)) {
@@ -186,6 +222,7 @@ class Driver {
   int64_t operations_ = 0;
   std::vector<int64_t> tet_tried_;     // clock when each tet was last tried, -1 never
   std::vector<int64_t> vertex_tried_;  // same for smoothing each vertex
+  std::vector<int64_t> insertion_tried_;  // same for inserting a vertex in each tet
 };
 
 }  // namespace
@@ -207,6 +244,15 @@ ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, c
     ++stats.passes;
     const int64_t changes = driver.topologicalSweep() + driver.smoothingSweep();
     if (changes == 0) break;
+  }
+  // Then insertion, each followed by the other operations around the new vertices.
+  stats.before_insertion = countPoorTets(work, stats.min_dihedral_before_insertion);
+  for (int pass = 0; options.vertex_insertion && pass < options.insertion_passes && !stats.stopped_by_time_limit;
+       ++pass) {
+    ++stats.passes;
+    if (driver.insertionSweep() == 0) break;
+    driver.topologicalSweep();
+    driver.smoothingSweep();
   }
   std::vector<int64_t> renumbered = work.writeBack(mesh);
   if (previousIndex) *previousIndex = std::move(renumbered);

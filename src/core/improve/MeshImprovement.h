@@ -1,6 +1,6 @@
 #pragma once
 // The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, multi-face
-// removal incl. 2-3 flips, edge collapse) and vertex smoothing, worst tet first, repeated in
+// removal incl. 2-3 flips, edge collapse, vertex insertion) and vertex smoothing, worst tet first, repeated in
 // passes. Every operation raises the smallest dihedral angle of the tets it replaces or moves,
 // so the mesh is the best so far after each one and can be stopped anywhere. It runs on the
 // final linear mesh of either engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
@@ -39,6 +39,10 @@ struct ImprovementOptions {
   double curved_cap_flatness = 0.05;
   // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet.
   bool edge_collapse = true;
+  // Vertex insertion (VertexInsertion.h), in passes of their own after the others: insertion,
+  // then the other operations around the new vertices; a pass inserting nothing ends them.
+  bool vertex_insertion = true;
+  int insertion_passes = 4;
   // The job's edge, facet and cell sizes and ratio bound, which every operation keeps where it
   // lengthens a feature edge or enlarges a boundary triangle or a tet (SizeCriteria.h).
   SizeCriteria sizes;
@@ -58,6 +62,10 @@ struct ImprovementStats {
   int64_t flips44 = 0;           // ring of 4
   int64_t edge_removals = 0;     // rings of 5 to 7
   int64_t edge_collapses = 0;    // vertices removed
+  int64_t vertex_insertions = 0;  // interior vertices added
+  // Where the other operations left the mesh, before the insertion passes.
+  double min_dihedral_before_insertion = 0;
+  PoorTetCounts before_insertion;
   int64_t smoothed_interior = 0;
   int64_t smoothed_surface = 0;  // in a planar patch
   int64_t smoothed_feature = 0;  // along a straight curve
@@ -71,10 +79,11 @@ struct ImprovementStats {
 };
 
 // Rejects second-order meshes (mid nodes would be stale). Checks `control` for cancellation.
-// Rebuilds mesh.boundary when flat caps or collapses change it. Edge collapses remove vertices:
-// the mesh is renumbered without them, and `previousIndex` (when given) gets each vertex's
-// index before the stage, so that per-vertex data kept elsewhere can follow (left empty when
-// the numbering did not change).
+// Rebuilds mesh.boundary when flat caps, collapses or insertions change it. Edge collapses
+// remove vertices and insertions add interior ones after the others: the mesh is renumbered,
+// and `previousIndex` (when given) gets each vertex's index before the stage (-1 for an
+// inserted one), so that per-vertex data kept elsewhere can follow (left empty when the
+// numbering did not change).
 ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control,
                              std::vector<int64_t>* previousIndex = nullptr);
 

@@ -181,9 +181,10 @@ void BoundarySnapResult::renumber(const std::vector<int64_t>& previousIndex) {
   if (previousIndex.empty()) return;
   std::vector<int> entries;
   std::vector<double> kept;
+  // A vertex the improvement stage inserted (-1) is interior: no entry, nothing kept off.
   for (int64_t v : previousIndex) {
-    if (static_cast<size_t>(v) < vertex_entry.size()) entries.push_back(vertex_entry[v]);
-    if (static_cast<size_t>(v) < distance_kept.size()) kept.push_back(distance_kept[v]);
+    if (!vertex_entry.empty()) entries.push_back(v >= 0 && static_cast<size_t>(v) < vertex_entry.size() ? vertex_entry[v] : -1);
+    if (!distance_kept.empty()) kept.push_back(v >= 0 && static_cast<size_t>(v) < distance_kept.size() ? distance_kept[v] : 0.0);
   }
   vertex_entry = std::move(entries);
   distance_kept = std::move(kept);

@@ -37,8 +37,8 @@ struct BoundarySnapResult {
   std::vector<double> distance_kept;
   BoundarySnapStatistics statistics;
 
-  // The per-vertex data after vertices were removed (improveMesh's previousIndex: each vertex's
-  // index before); an empty list changes nothing.
+  // The per-vertex data after vertices were removed or inserted (improveMesh's previousIndex:
+  // each vertex's index before, -1 for an inserted interior one); an empty list changes nothing.
   void renumber(const std::vector<int64_t>& previousIndex);
 };
 
