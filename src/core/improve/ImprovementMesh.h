@@ -91,7 +91,6 @@ class ImprovementMesh {
   // A new interior vertex (Free) at p, in no tet yet: vertex insertion (VertexInsertion.h)
   // gives it its star with replace().
   int64_t addVertex(const Point3& p);
-  int64_t addedVertexCount() const { return added_vertices_; }
   // The faces (sorted corners) of the alive tets at v that have v; those of them no other
   // alive tet has (on the outer boundary).
   std::vector<std::array<int64_t, 3>> facesAt(int64_t v) const;

@@ -35,14 +35,15 @@ double boundingDiagonal(const std::vector<Point3>& points) {
   return distance(low, high);
 }
 
+void countPoorTet(PoorTetCounts& c, double quality) {
+  c.under5 += quality < 5;
+  c.under10 += quality < 10;
+  c.under15 += quality < 15;
+}
+
 PoorTetCounts countPoorTets(const TetMesh& mesh) {
   PoorTetCounts c;
-  for (const auto& t : mesh.tets) {
-    const double q = smallestDihedral(mesh.points, t);
-    c.under5 += q < 5;
-    c.under10 += q < 10;
-    c.under15 += q < 15;
-  }
+  for (const auto& t : mesh.tets) countPoorTet(c, smallestDihedral(mesh.points, t));
   return c;
 }
 
@@ -53,9 +54,7 @@ PoorTetCounts countPoorTets(const ImprovementMesh& mesh, double& smallest) {
     if (mesh.alive(t)) {
       const double q = mesh.quality(t);
       smallest = std::min(smallest, q);
-      c.under5 += q < 5;
-      c.under10 += q < 10;
-      c.under15 += q < 15;
+      countPoorTet(c, q);
     }
   return c;
 }
@@ -78,12 +77,19 @@ class Driver {
       : mesh_(mesh), options_(options), control_(control), stats_(stats), start_(std::chrono::steady_clock::now()),
         vertex_tried_(mesh.points().size(), -1) {}
 
-  // A tet tried before is tried again only when something around one of its corners changed.
-  bool changedSinceTried(int64_t t) const {
-    if (t >= static_cast<int64_t>(tet_tried_.size()) || tet_tried_[t] < 0) return true;
+  // A tet tried before (`tried`: the clock when each tet was last tried by one operation kind)
+  // is tried again only when something around one of its corners changed.
+  bool changedSinceTried(const std::vector<int64_t>& tried, int64_t t) const {
+    if (t >= static_cast<int64_t>(tried.size()) || tried[t] < 0) return true;
     for (int64_t v : mesh_.tet(t))
-      if (mesh_.changedAt(v) > tet_tried_[t]) return true;
+      if (mesh_.changedAt(v) > tried[t]) return true;
     return false;
+  }
+
+  // Records that tet t is being tried now.
+  void markTried(std::vector<int64_t>& tried, int64_t t) const {
+    if (static_cast<int64_t>(tried.size()) < mesh_.tetSlots()) tried.resize(mesh_.tetSlots(), -1);
+    tried[t] = mesh_.now();
   }
 
   bool outOfTime() {
@@ -103,11 +109,10 @@ class Driver {
   int64_t topologicalSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
-      if (!mesh_.alive(t) || !changedSinceTried(t)) continue;
+      if (!mesh_.alive(t) || !changedSinceTried(tet_tried_, t)) continue;
       if (outOfTime()) break;
       const TetCorners c = mesh_.tet(t);
-      if (static_cast<int64_t>(tet_tried_.size()) < mesh_.tetSlots()) tet_tried_.resize(mesh_.tetSlots(), -1);
-      tet_tried_[t] = mesh_.now();
+      markTried(tet_tried_, t);
       const auto& p = mesh_.points();
       const auto angles = dihedralAngles(p[c[0]], p[c[1]], p[c[2]], p[c[3]]);
       int edges[6] = {0, 1, 2, 3, 4, 5};
@@ -172,13 +177,9 @@ class Driver {
   int64_t insertionSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
-      if (!mesh_.alive(t)) continue;
-      if (static_cast<int64_t>(insertion_tried_.size()) < mesh_.tetSlots()) insertion_tried_.resize(mesh_.tetSlots(), -1);
-      bool changed = insertion_tried_[t] < 0;
-      for (int64_t v : mesh_.tet(t)) changed = changed || mesh_.changedAt(v) > insertion_tried_[t];
-      if (!changed) continue;
+      if (!mesh_.alive(t) || !changedSinceTried(insertion_tried_, t)) continue;
       if (outOfTime()) break;
-      insertion_tried_[t] = mesh_.now();
+      markTried(insertion_tried_, t);
       if (insertVertex(mesh_, t, options_.sizes) < 0) continue;
       ++stats_.vertex_insertions;
       ++changes;

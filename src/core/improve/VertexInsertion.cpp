@@ -17,13 +17,9 @@ constexpr double kWorst = -std::numeric_limits<double>::infinity();
 constexpr int64_t kNewVertex = -1;
 
 std::optional<Point3> circumcentre(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
-  const Point3 ba = b - a, ca = c - a, da = d - a;
-  const double det = 2 * dot(ba, cross(ca, da));
-  if (!(std::abs(det) > 0)) return std::nullopt;
-  const Point3 offset = dot(ba, ba) * cross(ca, da) + dot(ca, ca) * cross(da, ba) + dot(da, da) * cross(ba, ca);
-  const Point3 centre = a + (1 / det) * offset;
-  if (!std::isfinite(centre[0]) || !std::isfinite(centre[1]) || !std::isfinite(centre[2])) return std::nullopt;
-  return centre;
+  const std::optional<Point3> offset = circumcentreFromA(a, b, c, d);
+  if (!offset) return std::nullopt;
+  return a + *offset;
 }
 
 std::array<int64_t, 3> faceOpposite(const TetCorners& c, int i) {
@@ -171,7 +167,7 @@ int64_t insertVertex(ImprovementMesh& mesh, int64_t t, const SizeCriteria& sizes
     if (!mesh.isProtectedEdge(c[e[0]], c[e[1]])) candidates.push_back(0.5 * (p[c[e[0]]] + p[c[e[1]]]));
 
   std::optional<Star> best;
-  double bestQuality = kWorst, bestBefore = 0;
+  double bestQuality = kWorst;
   for (const Point3& point : candidates) {
     Star star(mesh, material, point);
     if (!star.build(t)) continue;
@@ -186,11 +182,10 @@ int64_t insertVertex(ImprovementMesh& mesh, int64_t t, const SizeCriteria& sizes
     const double after = star.quality(bound);
     if (after > before && after > bestQuality) {
       bestQuality = after;
-      bestBefore = before;
       best.emplace(std::move(star));
     }
   }
-  if (!best || !(bestQuality > bestBefore)) return -1;
+  if (!best) return -1;
   const int64_t v = mesh.addVertex(best->point());
   std::vector<TetCorners> made = best->made();
   for (TetCorners& s : made)

@@ -48,20 +48,27 @@ std::array<double, 6> dihedralAngles(const Point3& a, const Point3& b, const Poi
   return angles;
 }
 
-double radiusEdgeRatio(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+std::optional<Point3> circumcentreFromA(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   const Point3 u = b - a, v = c - a, w = d - a;
   const double det = determinant(u, v, w);
+  if (det == 0) return std::nullopt;
+  // The point equidistant from a, b, c, d solves 2 [u v w]^T x = (|u|^2, |v|^2, |w|^2), whose
+  // solution by Cramer's rule is below.
+  const Point3 centre = (1.0 / (2.0 * det)) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
+  if (!std::isfinite(centre[0]) || !std::isfinite(centre[1]) || !std::isfinite(centre[2])) return std::nullopt;
+  return centre;
+}
+
+double radiusEdgeRatio(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
   double shortestSquared = std::numeric_limits<double>::infinity();
   const std::array<Point3, 4> p{a, b, c, d};
   for (const auto& e : kTetEdgeCorners) {
     const Point3 edge = p[e[1]] - p[e[0]];
     shortestSquared = std::min(shortestSquared, dot(edge, edge));
   }
-  if (det == 0 || shortestSquared == 0) return std::numeric_limits<double>::infinity();
-  // Circumcentre relative to a: the point equidistant from a, b, c, d solves
-  // 2 [u v w]^T x = (|u|^2, |v|^2, |w|^2), whose solution by Cramer's rule is below.
-  const Point3 centre = (1.0 / (2.0 * det)) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
-  const double ratio = norm(centre) / std::sqrt(shortestSquared);
+  const std::optional<Point3> centre = circumcentreFromA(a, b, c, d);
+  if (!centre || shortestSquared == 0) return std::numeric_limits<double>::infinity();
+  const double ratio = norm(*centre) / std::sqrt(shortestSquared);
   return std::isfinite(ratio) ? ratio : std::numeric_limits<double>::infinity();
 }
 

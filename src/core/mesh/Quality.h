@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "Geometry.h"
@@ -22,6 +23,10 @@ double tetVolume(const Point3& a, const Point3& b, const Point3& c, const Point3
 // 23. Unsigned: an inverted tet has the angles of its mirror image. A face of zero area
 // makes the angles at its edges 0.
 std::array<double, 6> dihedralAngles(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
+// The circumcentre's offset from corner a; nullopt for a flat tet (no sphere) or one whose
+// centre overflows.
+std::optional<Point3> circumcentreFromA(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
 
 // Circumradius over shortest edge: sqrt(6)/4 = 0.612 for the regular tet, unbounded for
 // slivers' cousins (caps, needles). Infinity for a flat or degenerate tet.
