@@ -22,6 +22,7 @@
 #include "sizing/DiscreteSurface.h"
 #include "sizing/GeometrySizes.h"
 #include "sizing/SizeField.h"
+#include "sizing/TriangleSpread.h"
 #include "discrete_shapes.h"
 
 namespace oraclemesh {
@@ -78,6 +79,71 @@ TEST(SizeField, GrowsNoFasterThanItsGrading) {
   }
   EXPECT_DOUBLE_EQ(field.at({0, 0, 0}), 0.1);
   EXPECT_DOUBLE_EQ(field.at({10, 0, 0}), 2);  // 0.1 + 0.3 * 10 = 3.1 from the other sample
+}
+
+// The largest distance from a point of the triangle to its nearest spread point, over 3000
+// random points of the triangle.
+double farthestFromSpread(const Point3 (&c)[3], const std::vector<std::array<double, 2>>& spread, std::mt19937& rng) {
+  std::vector<Point3> points;
+  for (const auto& w : spread) points.push_back(w[0] * c[0] + w[1] * c[1] + (1 - w[0] - w[1]) * c[2]);
+  std::uniform_real_distribution<double> unit(0, 1);
+  double farthest = 0;
+  for (int q = 0; q < 3000; ++q) {
+    double a = unit(rng), b = unit(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Point3 p = a * c[0] + b * c[1] + (1 - a - b) * c[2];
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Point3& s : points) nearest = std::min(nearest, distance(p, s));
+    farthest = std::max(farthest, nearest);
+  }
+  return farthest;
+}
+
+// Every point of a triangle within spacing / sqrt(3) of a sample point, corners included, no
+// point twice: on a well-shaped triangle, an obtuse one and needles along and across the axes.
+TEST(TriangleSpread, EveryPointOfTheTriangleLiesNearASpreadPoint) {
+  const double spacing = 1;
+  const Point3 triangles[][3] = {{{0, 0, 0}, {10, 0, 0}, {5, 8.66, 0}},
+                                 {{0, 0, 0}, {12, 0, 0}, {7, 1.5, 0.5}},
+                                 {{0, 0, 0}, {60, 0.3, 0}, {0.2, 0.05, 0}},
+                                 {{3, -2, 1}, {3.1, 40, 1}, {3.05, 19, 1.4}},
+                                 {{0, 0, 0}, {200, 0, 0}, {120, 20, 0}},
+                                 {{0, 0, 0}, {0.4, 0, 0}, {0, 0.3, 0}}};
+  std::mt19937 rng(5);
+  for (const auto& c : triangles) {
+    const std::vector<std::array<double, 2>> spread = spreadOverTriangle(c, spacing);
+    std::vector<std::array<double, 2>> sorted = spread;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a point twice";
+    for (const std::array<double, 2>& corner : {std::array<double, 2>{1, 0}, {0, 1}, {0, 0}})
+      EXPECT_TRUE(std::binary_search(sorted.begin(), sorted.end(), corner)) << corner[0] << " " << corner[1];
+    EXPECT_LE(farthestFromSpread(c, spread, rng), spacing / std::sqrt(3.0) * (1 + 1e-9)) << c[1][0] << " " << c[1][1];
+  }
+}
+
+// A needle 100 spacings long and a twentieth of one wide gets points along its length: the even
+// grid over its longest edge had 101 * 102 / 2 = 5151. A well-shaped triangle keeps that grid.
+TEST(TriangleSpread, ANeedleGetsPointsAlongItsLengthAWellShapedTriangleTheEvenGrid) {
+  const Point3 needle[3] = {{0, 0, 0}, {100, 0, 0}, {50, 0.05, 0}};
+  const size_t onNeedle = spreadOverTriangle(needle, 1).size();
+  EXPECT_GE(onNeedle, 100u);  // at most a spacing apart along it
+  EXPECT_LE(onNeedle, 150u);
+  // Twenty spacings high, it gets rows: about one point per 0.4 x 0.82 spacings^2 of its area.
+  const Point3 wide[3] = {{0, 0, 0}, {200, 0, 0}, {120, 20, 0}};
+  const size_t onWide = spreadOverTriangle(wide, 1).size();
+  EXPECT_LE(onWide, static_cast<size_t>(1.3 * 2000 / (0.4 * 0.82)));
+  EXPECT_LT(onWide, 201u * 202 / 2 / 2);
+  const Point3 equilateral[3] = {{0, 0, 0}, {10, 0, 0}, {5, 5 * std::sqrt(3.0), 0}};
+  const std::vector<std::array<double, 2>> grid = spreadOverTriangle(equilateral, 1);
+  ASSERT_EQ(grid.size(), 11u * 12 / 2);
+  size_t k = 0;
+  for (int a = 0; a <= 10; ++a)
+    for (int b = 0; a + b <= 10; ++b, ++k) {
+      EXPECT_EQ(grid[k][0], a / 10.0);
+      EXPECT_EQ(grid[k][1], b / 10.0);
+    }
+  // The budget holds on a triangle far larger than the spacing.
+  EXPECT_LE(spreadOverTriangle(equilateral, 1e-4, 5000).size(), 5000u);
 }
 
 std::vector<SizeSample> samplesOf(const TopoDS_Shape& shape, double sharpAngle = 30) {

@@ -27,6 +27,7 @@
 #include "domain/OpenCascadeWork.h"
 #include "features/BrepSharpEdges.h"
 #include "sizing/DiscreteSurface.h"
+#include "sizing/TriangleSpread.h"
 
 namespace oraclemesh {
 
@@ -317,30 +318,24 @@ class FaceSampler {
     for (size_t i = 0; i < triangles_.size(); ++i) {
       if (i % 1024 == 0) control.checkpoint();
       const FaceTriangle& t = triangles_[i];
-      const double local = local_[i];
-      double longest = 0;
-      for (int k = 0; k < 3; ++k) longest = std::max(longest, distance(t.corners[k], t.corners[(k + 1) % 3]));
-      const int steps = std::clamp(static_cast<int>(std::ceil(longest / (kSpacingPerSize * local))), 1, kMaxSteps);
-      for (int a = 0; a <= steps; ++a)
-        for (int b = 0; a + b <= steps; ++b) {
-          const double wa = double(a) / steps, wb = double(b) / steps;
-          const Point3 p = wa * t.corners[0] + wb * t.corners[1] + (1 - wa - wb) * t.corners[2];
-          if (fromShape_) {
-            const double curvature = curvatureSize(i, {wa, wb});
-            if (std::isfinite(curvature)) shape.push_back({p, curvature, SizeReason::Curvature});
-            const double thickness = thicknessSize(t, i, p);
-            if (std::isfinite(thickness)) shape.push_back({p, thickness, SizeReason::Thickness});
-          }
-          const double gap = gapSize(t, p);
-          if (std::isfinite(gap)) gaps.push_back({p, gap, SizeReason::Gap});
+      for (const std::array<double, 2>& w : spreadOverTriangle(t.corners, kSpacingPerSize * local_[i], kMaxPoints)) {
+        const Point3 p = w[0] * t.corners[0] + w[1] * t.corners[1] + (1 - w[0] - w[1]) * t.corners[2];
+        if (fromShape_) {
+          const double curvature = curvatureSize(i, w);
+          if (std::isfinite(curvature)) shape.push_back({p, curvature, SizeReason::Curvature});
+          const double thickness = thicknessSize(t, i, p);
+          if (std::isfinite(thickness)) shape.push_back({p, thickness, SizeReason::Thickness});
         }
+        const double gap = gapSize(t, p);
+        if (std::isfinite(gap)) gaps.push_back({p, gap, SizeReason::Gap});
+      }
     }
   }
 
  private:
   // Only reached by a triangle a thousand sizes long, on a model the vertex limit allows.
-  static constexpr int kMaxSteps = 1000;
-  // Samples this many sizes apart: halfway between two, the graded field is at most
+  static constexpr size_t kMaxPoints = 1000 * 1001 / 2;
+  // Samples at most this many sizes apart: halfway between two, the graded field is at most
   // grading * spacing / 2 = 0.2 of the size above what they ask for ("moderate").
   static constexpr double kSpacingPerSize = 1.33;
 
