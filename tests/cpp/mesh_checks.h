@@ -118,6 +118,13 @@ inline std::set<int64_t> boundaryNodes(const TetMesh& m) {
   return nodes;
 }
 
+// Whether u and v are corners of one tet.
+inline bool hasTetEdge(const TetMesh& m, int64_t u, int64_t v) {
+  for (const auto& t : m.tets)
+    if (std::count(t.begin(), t.end(), u) && std::count(t.begin(), t.end(), v)) return true;
+  return false;
+}
+
 // Feature edges that are no edge of any tet (FreeCAD's hand-off looks each one up among
 // the tets' edges); independent of the core's own count.
 inline int64_t featureEdgesNotTetEdges(const TetMesh& m) {

@@ -110,7 +110,7 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
             << ", under 5/10/15 deg " << s.before.under5 << "/" << s.before.under10 << "/" << s.before.under15 << " -> "
             << s.after.under5 << "/" << s.after.under10 << "/" << s.after.under15 << ", 3-2 " << s.flips32 << ", 4-4 "
             << s.flips44 << ", 5..7 " << s.edge_removals << ", 2-3 " << s.flips23 << ", multi-face "
-            << s.multi_face_removals << ", smoothed "
+            << s.multi_face_removals << ", surface flips " << s.surface_flips << ", smoothed "
             << s.smoothed_interior << "/" << s.smoothed_surface << "/" << s.smoothed_feature << ", collapses "
             << s.edge_collapses << ", " << s.seconds << " s\n";
   EXPECT_GE(s.min_dihedral_after, s.min_dihedral_before);
@@ -120,6 +120,7 @@ TEST(ImprovementStage, PartStepFewerPoorTetsWithBoundaryFeaturesAndVolumesKept) 
   EXPECT_GT(s.flips32 + s.flips44 + s.edge_removals, 0);
   EXPECT_GT(s.smoothed_interior, 0);
   EXPECT_GT(s.smoothed_surface, 0);
+  EXPECT_GT(s.surface_flips, 0);  // in planes: the surfaces stay the same pieces (below)
   // No feature edge got longer than the longest was (the edge size holds): Rule Set Q's
   // equalised subsegments leave feature vertices here no room along their lines.
   double longestBefore = 0, longestAfter = 0;

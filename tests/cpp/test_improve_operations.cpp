@@ -118,12 +118,6 @@ double minDihedralOf(const TetMesh& m) {
   return lo;
 }
 
-bool hasEdge(const TetMesh& m, int64_t u, int64_t v) {
-  for (const auto& t : m.tets)
-    if (std::count(t.begin(), t.end(), u) && std::count(t.begin(), t.end(), v)) return true;
-  return false;
-}
-
 void expectValid(const TetMesh& before, const TetMesh& after) {
   for (const auto& t : after.tets)
     EXPECT_GT(test::orientation(after.points[t[0]], after.points[t[1]], after.points[t[2]], after.points[t[3]]), 0);
@@ -170,7 +164,7 @@ TEST(ImproveFlips, TwoThreeFlipFixesFlatPair) {
   EXPECT_NEAR(s.min_dihedral_before, 21.80, 0.01);
   EXPECT_NEAR(s.min_dihedral_after, 43.60, 0.01);
   EXPECT_NEAR(minDihedralOf(m), s.min_dihedral_after, 1e-12);
-  EXPECT_TRUE(hasEdge(m, D, E));
+  EXPECT_TRUE(test::hasTetEdge(m, D, E));
   expectValid(before, m);
 }
 
@@ -181,7 +175,7 @@ TEST(ImproveFlips, ThreeTwoFlipRemovesLongInteriorEdge) {
   EXPECT_EQ(s.flips32, 1);
   EXPECT_EQ(m.tets.size(), 2u);
   EXPECT_GT(s.min_dihedral_after, s.min_dihedral_before + 20);
-  EXPECT_FALSE(hasEdge(m, D, E));
+  EXPECT_FALSE(test::hasTetEdge(m, D, E));
   expectValid(before, m);
 }
 
@@ -230,7 +224,7 @@ TEST(ImproveEdgeRemoval, RingOfFiveKeepsVolumeAndOrientation) {
   ASSERT_EQ(removeEdge(work, 0, 1), 5);
   work.writeBack(m);
   EXPECT_EQ(m.tets.size(), 6u);
-  EXPECT_FALSE(hasEdge(m, 0, 1));
+  EXPECT_FALSE(test::hasTetEdge(m, 0, 1));
   EXPECT_NEAR(q0, 4.2, 0.05);
   EXPECT_NEAR(minDihedralOf(m), 40.7, 0.05);
   expectValid(before, m);
@@ -241,7 +235,7 @@ TEST(ImproveEdgeRemoval, RingOfFourIsTheFourFourFlip) {
   TetMesh m = before;
   const ImprovementStats s = improve(m);
   EXPECT_EQ(s.flips44, 1);
-  EXPECT_FALSE(hasEdge(m, 0, 1));
+  EXPECT_FALSE(test::hasTetEdge(m, 0, 1));
   EXPECT_EQ(m.tets.size(), 4u);
   expectValid(before, m);
 }
@@ -254,7 +248,7 @@ TEST(ImproveEdgeRemoval, FeatureEdgeIsNeverRemoved) {
     ImprovementMesh work(m);
     EXPECT_EQ(removeEdge(work, 0, 1), 0) << n;
     improve(m);
-    EXPECT_TRUE(hasEdge(m, 0, 1)) << n;
+    EXPECT_TRUE(test::hasTetEdge(m, 0, 1)) << n;
   }
 }
 
@@ -318,7 +312,7 @@ TEST(ImproveFaceRemoval, FeatureEdgeBoundsTheDisk) {
   EXPECT_EQ(removeFaces(work, 2, 4, 5, sizes), 2);  // the middle face and the one beyond r_3 r_0
   work.writeBack(m);
   EXPECT_EQ(m.tets.size(), 6u);
-  EXPECT_TRUE(hasEdge(m, 2, 4));
+  EXPECT_TRUE(test::hasTetEdge(m, 2, 4));
   EXPECT_NEAR(minDihedralOf(m), 31.7, 0.05);  // the two tets beyond the chord stay
   expectValid(before, m);
 }
@@ -711,7 +705,7 @@ TEST(ImproveInsertion, CavityStopsAtInterfacesAndKeepsFeatureEdges) {
     ImprovementMesh work(m);
     insertVertex(work, 0, ratioBound(100));
     work.writeBack(m);
-    EXPECT_TRUE(hasEdge(m, 0, 2));
+    EXPECT_TRUE(test::hasTetEdge(m, 0, 2));
     expectValid(before, m);
   }
 }

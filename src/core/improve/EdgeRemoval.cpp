@@ -9,9 +9,12 @@ namespace {
 
 constexpr double kWorst = -std::numeric_limits<double>::infinity();
 
-// The ring of link vertices around ab, ordered so that (a, b, r_i, r_{i+1}) is positive, as
-// every tet of the mesh is. Empty when the tets do not close around the edge.
-std::vector<int64_t> ringAround(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets) {
+// The link vertices around ab, ordered so that (a, b, r_i, r_{i+1}) is positive, as every tet
+// of the mesh is: a closed ring (one vertex per tet) or, for the tets on one side of an edge of
+// the boundary, an open fan from the one link vertex no tet precedes (one vertex more). Empty
+// when the tets make neither, or pass a vertex twice.
+std::vector<int64_t> linkAround(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                                bool closed) {
   std::vector<std::array<int64_t, 2>> links;
   const auto& p = mesh.points();
   for (int64_t t : tets) {
@@ -22,14 +25,34 @@ std::vector<int64_t> ringAround(const ImprovementMesh& mesh, int64_t a, int64_t 
     if (exactOrientation(p[a], p[b], p[cd[0]], p[cd[1]]) < 0) std::swap(cd[0], cd[1]);
     links.push_back(cd);
   }
-  std::vector<int64_t> ring{links.front()[0]};
+  auto linkFrom = [&](int64_t v) {
+    return std::find_if(links.begin(), links.end(), [&](const auto& l) { return l[0] == v; });
+  };
+  int64_t start = links.front()[0];
+  if (!closed) {
+    start = -1;
+    for (const auto& l : links) {
+      const bool preceded = std::any_of(links.begin(), links.end(), [&](const auto& m) { return m[1] == l[0]; });
+      if (preceded) continue;
+      if (start >= 0) return {};
+      start = l[0];
+    }
+    if (start < 0) return {};
+  }
+  std::vector<int64_t> ring{start};
   for (size_t step = 0; step < links.size(); ++step) {
-    const auto next = std::find_if(links.begin(), links.end(), [&](const auto& l) { return l[0] == ring.back(); });
+    const auto next = linkFrom(ring.back());
     if (next == links.end()) return {};
-    if (step + 1 == links.size()) return (*next)[1] == ring.front() ? ring : std::vector<int64_t>{};
     ring.push_back((*next)[1]);
   }
-  return {};
+  if (closed) {
+    if (ring.back() != ring.front()) return {};
+    ring.pop_back();
+  }
+  std::vector<int64_t> distinct = ring;
+  std::sort(distinct.begin(), distinct.end());
+  if (std::adjacent_find(distinct.begin(), distinct.end()) != distinct.end()) return {};
+  return ring;
 }
 
 struct RingTriangulation {
@@ -89,14 +112,12 @@ struct RingTriangulation {
   }
 };
 
-}  // namespace
-
-double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
-                           const SizeBound& bound, int material, std::vector<TetCorners>& made) {
-  const int n = static_cast<int>(tets.size());
+// The best triangulation of the polygon `ring` (closed by its edge r_{n-1} r_0) joined to a
+// and b; -infinity when there is none.
+double triangulateLink(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& ring,
+                       const SizeBound& bound, int material, std::vector<TetCorners>& made) {
+  const int n = static_cast<int>(ring.size());
   if (n < 3 || n > kMaxEdgeRemovalRing) return kWorst;
-  const std::vector<int64_t> ring = ringAround(mesh, a, b, tets);
-  if (static_cast<int>(ring.size()) != n) return kWorst;
   RingTriangulation triangulation{mesh, a, b, ring, bound, material, n, {}, {}};
   const double worst = triangulation.solve();
   if (worst == kWorst) return kWorst;
@@ -107,6 +128,26 @@ double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, co
   for (const auto& d : diagonals)
     if (mesh.hasEdge(d[0], d[1])) return kWorst;
   return worst;
+}
+
+}  // namespace
+
+double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                           const SizeBound& bound, int material, std::vector<TetCorners>& made) {
+  if (tets.size() < 3 || tets.size() > kMaxEdgeRemovalRing) return kWorst;
+  const std::vector<int64_t> ring = linkAround(mesh, a, b, tets, true);
+  if (ring.size() != tets.size()) return kWorst;
+  return triangulateLink(mesh, a, b, ring, bound, material, made);
+}
+
+double triangulateEdgeFan(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                          const SizeBound& bound, int material, std::vector<TetCorners>& made,
+                          std::array<int64_t, 2>& ends) {
+  if (tets.empty() || tets.size() + 1 > kMaxEdgeRemovalRing) return kWorst;
+  const std::vector<int64_t> fan = linkAround(mesh, a, b, tets, false);
+  if (fan.size() != tets.size() + 1) return kWorst;
+  ends = {fan.front(), fan.back()};
+  return triangulateLink(mesh, a, b, fan, bound, material, made);
 }
 
 int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCriteria& sizes) {

@@ -5,6 +5,7 @@
 // 2(n-2) tets that join a triangulation of the ring to a and to b. The triangulation is the
 // one whose worst tet is best, found by dynamic programming over the ring's sub-polygons.
 // n = 3 is the 3-2 flip, n = 4 the 4-4 flip.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -28,5 +29,13 @@ int removeEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCriteria& 
 // those tets, or -infinity (and `made` unspecified) when there is no such triangulation.
 double triangulateEdgeRing(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
                            const SizeBound& bound, int material, std::vector<TetCorners>& made);
+
+// The same for the tets on one side of an edge ab of the boundary or of an interface (2..6 of
+// them, an open fan from link vertex ends[0] to ends[1]): the best triangulation of the fan's
+// polygon closed by the new edge ends[0] ends[1], which with a and b makes the two triangles
+// that replace the fan's two faces on the surface (SurfaceFlip.h).
+double triangulateEdgeFan(const ImprovementMesh& mesh, int64_t a, int64_t b, const std::vector<int64_t>& tets,
+                          const SizeBound& bound, int material, std::vector<TetCorners>& made,
+                          std::array<int64_t, 2>& ends);
 
 }  // namespace oraclemesh

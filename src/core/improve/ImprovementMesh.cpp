@@ -295,6 +295,26 @@ void ImprovementMesh::collapse(int64_t v, int64_t u) {
   ++removed_vertices_;
 }
 
+void ImprovementMesh::flipProtectedFaces(int64_t a, int64_t b, int64_t c, int64_t d) {
+  const std::array<std::array<int64_t, 3>, 2> gone{faceKey(a, b, c), faceKey(a, b, d)};
+  const std::array<std::array<int64_t, 3>, 2> made{faceKey(a, c, d), faceKey(b, c, d)};
+  for (const auto& f : gone) protected_faces_.erase(f);
+  for (const auto& f : made) protected_faces_.insert(f);
+  for (int64_t v : {a, b, c, d}) {
+    auto& list = mobility_[v].boundary_triangles;
+    if (list.empty()) continue;  // no move of v is bounded by its triangles
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](const std::array<int64_t, 3>& t) {
+                                const auto key = faceKey(t[0], t[1], t[2]);
+                                return key == gone[0] || key == gone[1];
+                              }),
+               list.end());
+    for (const auto& f : made)
+      if (std::find(f.begin(), f.end(), v) != f.end()) list.push_back(f);
+  }
+  surface_flipped_ = true;
+}
+
 int64_t ImprovementMesh::addVertex(const Point3& p) {
   const int64_t v = static_cast<int64_t>(points_.size());
   points_.push_back(p);
@@ -316,7 +336,10 @@ std::vector<int64_t> ImprovementMesh::writeBack(TetMesh& mesh) const {
       mesh.tets.push_back(tets_[t]);
       mesh.tet_materials.push_back(materials_[t]);
     }
-  if (removed_vertices_ == 0 && added_vertices_ == 0) return {};
+  if (removed_vertices_ == 0 && added_vertices_ == 0) {
+    if (surface_flipped_) mesh.boundary = extractBoundary(mesh);
+    return {};
+  }
   const size_t n = collapsed_into_.size();
   auto extend = [&](auto& perVertex, auto value) {
     if (perVertex.size() == original_vertices_) perVertex.resize(n, value);

@@ -86,6 +86,10 @@ class ImprovementMesh {
   // tet of v without u becomes `made` (v renamed u, same material); the tets having both go.
   // Protected faces and edges at v are renamed and those having both go; v is left with no tet.
   void collapse(int64_t v, int64_t u);
+  // A 2-2 flip on the surface (SurfaceFlip.h, which replaces the tets): the protected faces abc
+  // and abd become acd and bcd, here and in the boundary triangles that bound the four
+  // vertices' moves; writeBack then extracts the boundary again.
+  void flipProtectedFaces(int64_t a, int64_t b, int64_t c, int64_t d);
   bool removed(int64_t v) const { return collapsed_into_[v] >= 0; }
   int64_t removedVertexCount() const { return removed_vertices_; }
   // A new interior vertex (Free) at p, in no tet yet: vertex insertion (VertexInsertion.h)
@@ -96,8 +100,8 @@ class ImprovementMesh {
   std::vector<std::array<int64_t, 3>> facesAt(int64_t v) const;
   std::vector<std::array<int64_t, 3>> outerFacesAt(int64_t v) const;
 
-  // The alive tets in index order (originals first, then the ones the operations made).
-  // Inserted vertices come after the mesh's own (interior: dimension 3, no curve, no boundary
+  // The alive tets in index order (originals first, then the ones the operations made), and the
+  // boundary extracted again when a surface flip changed it. Inserted vertices come after the mesh's own (interior: dimension 3, no curve, no boundary
   // entry). When vertices were removed or inserted, the mesh's points and per-vertex data are
   // renumbered without the removed ones, its feature edges renamed and its boundary extracted
   // again; the result gives each written vertex's index before, -1 for an inserted one (empty:
@@ -130,6 +134,7 @@ class ImprovementMesh {
   std::vector<int64_t> collapsed_into_;  // per vertex: the vertex it went onto, -1 kept
   int64_t removed_vertices_ = 0;
   int64_t added_vertices_ = 0;
+  bool surface_flipped_ = false;
   size_t original_vertices_ = 0;
 };
 

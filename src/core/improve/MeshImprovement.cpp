@@ -11,6 +11,7 @@
 #include "improve/FaceRemoval.h"
 #include "improve/ImprovementMesh.h"
 #include "improve/Smoothing.h"
+#include "improve/SurfaceFlip.h"
 #include "improve/VertexInsertion.h"
 #include "mesh/Quality.h"
 
@@ -105,7 +106,8 @@ class Driver {
   }
 
   // Edge removal on the tet's edges, those at its most extreme dihedral angles first (a
-  // sliver's small angles and a cap's large one), else face removal from one of its faces.
+  // sliver's small angles and a cap's large one), else face removal from one of its faces,
+  // else a surface flip of one of its edges on a planar piece of the surface, else a collapse.
   int64_t topologicalSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
@@ -131,6 +133,13 @@ class Driver {
         const int faces = removeFaces(mesh_, c[(f + 1) % 4], c[(f + 2) % 4], c[(f + 3) % 4], options_.sizes);
         if (faces == 0) continue;
         (faces == 1 ? stats_.flips23 : stats_.multi_face_removals)++;
+        done = true;
+      }
+      for (int e = 0; e < 6 && !done && options_.surface_flips; ++e) {
+        if (!flipSurfaceEdge(mesh_, c[kEdgeCorners[edges[e]][0]], c[kEdgeCorners[edges[e]][1]], options_.sizes,
+                             options_.curved_cap_flatness))
+          continue;
+        ++stats_.surface_flips;
         done = true;
       }
       if (!done && options_.edge_collapse) done = collapseShortestEdge(c);

@@ -1,14 +1,16 @@
 #pragma once
 // The improvement stage: topological operations (edge removal incl. 3-2 and 4-4, multi-face
-// removal incl. 2-3 flips, edge collapse, vertex insertion) and vertex smoothing, worst tet first, repeated in
-// passes. Every operation raises the smallest dihedral angle of the tets it replaces or moves,
-// so the mesh is the best so far after each one and can be stopped anywhere. It runs on the
-// final linear mesh of either engine, needs no Delaunay property, and keeps: positive tets (exact orientation), every
-// boundary and interface triangle, every feature edge, each tet's material, per-material
-// volumes (exactly where vertices move inside planar patches and along straight curves; within
-// `curved_volume_bound` where they move on curved faces and curves), and the size criteria (no
-// new tet bigger in circumradius or radius-edge ratio than the worst it replaces, unless within
-// the job's criteria of its material: SizeBound).
+// removal incl. 2-3 flips, 2-2 flips of surface triangles, edge collapse, vertex
+// insertion) and vertex smoothing, worst tet first, repeated in passes. Every operation raises
+// the smallest dihedral angle of the tets it replaces or moves, so the mesh is the best so far
+// after each one and can be stopped anywhere. It runs on the final linear mesh of either
+// engine, needs no Delaunay property, and keeps: positive tets (exact orientation), the surface
+// (boundary and interface triangles change only by flips of nearly flat quads, FlatCaps.h and
+// SurfaceFlip.h, exactly in place in planes), every feature edge, each tet's material, per-material volumes (exactly where
+// vertices move inside planar patches and along straight curves; within `curved_volume_bound`
+// where they move on curved faces and curves), and the size criteria (no new tet bigger in
+// circumradius or radius-edge ratio than the worst it replaces, unless within the job's
+// criteria of its material: SizeBound).
 #include <cstdint>
 #include <vector>
 
@@ -35,8 +37,12 @@ struct ImprovementOptions {
   // The share of each material's volume by which such moves may change it (net, ImprovementMesh.h);
   // caps on curved pieces (FlatCaps.h, with a placement only) get the same share apart.
   double curved_volume_bound = 1e-5;
-  // A cap on a curved piece: its corners within this share of its longest edge of one plane.
+  // A cap or a surface flip on a curved piece: its corners within this share of its longest
+  // edge of one plane.
   double curved_cap_flatness = 0.05;
+  // 2-2 flips of surface triangles (SurfaceFlip.h) where the interior operations cannot help a
+  // tet: in planar pieces, and with a placement on nearly flat stretches of curved ones.
+  bool surface_flips = true;
   // Edge collapse (EdgeCollapse.h) where edge removal and flips cannot help a tet.
   bool edge_collapse = true;
   // Vertex insertion (VertexInsertion.h), in passes of their own after the others: insertion,
@@ -61,6 +67,7 @@ struct ImprovementStats {
   int64_t flips32 = 0;           // edge removal with a ring of 3
   int64_t flips44 = 0;           // ring of 4
   int64_t edge_removals = 0;     // rings of 5 to 7
+  int64_t surface_flips = 0;     // 2-2 flips of boundary or interface triangles
   int64_t edge_collapses = 0;    // vertices removed
   int64_t vertex_insertions = 0;  // interior vertices added
   // Where the other operations left the mesh, before the insertion passes.
@@ -79,9 +86,9 @@ struct ImprovementStats {
 };
 
 // Rejects second-order meshes (mid nodes would be stale). Checks `control` for cancellation.
-// Rebuilds mesh.boundary when flat caps, collapses or insertions change it. Edge collapses
-// remove vertices and insertions add interior ones after the others: the mesh is renumbered,
-// and `previousIndex` (when given) gets each vertex's index before the stage (-1 for an
+// Rebuilds mesh.boundary when flat caps, surface flips, collapses or insertions change it.
+// Edge collapses remove vertices and insertions add interior ones after the others: the mesh is
+// renumbered, and `previousIndex` (when given) gets each vertex's index before the stage (-1 for an
 // inserted one), so that per-vertex data kept elsewhere can follow (left empty when the
 // numbering did not change).
 ImprovementStats improveMesh(TetMesh& mesh, const ImprovementOptions& options, const RunControl& control,

@@ -253,7 +253,7 @@ json improvementJson(const ImprovementReport& r, const std::vector<SmallInputAng
           {"min_dihedral_before_deg", s.min_dihedral_before},
           {"min_dihedral_after_deg", s.min_dihedral_after},
           {"operations", {{"flips23", s.flips23}, {"multi_face_removals", s.multi_face_removals}, {"flips32", s.flips32}, {"flips44", s.flips44},
-                          {"edge_removals_5_to_7", s.edge_removals}, {"edge_collapses", s.edge_collapses}, {"vertex_insertions", s.vertex_insertions}, {"smoothed_interior", s.smoothed_interior},
+                          {"edge_removals_5_to_7", s.edge_removals}, {"surface_flips", s.surface_flips}, {"edge_collapses", s.edge_collapses}, {"vertex_insertions", s.vertex_insertions}, {"smoothed_interior", s.smoothed_interior},
                           {"smoothed_surface", s.smoothed_surface}, {"smoothed_feature", s.smoothed_feature},
                           {"smoothed_curved_surface", s.smoothed_curved_surface},
                           {"smoothed_curved_feature", s.smoothed_curved_feature}}},
