@@ -21,36 +21,24 @@ built=$(date +%s)
 echo "tests/run.sh: clean build took $((built - start)) s"
 
 status=0
-# Two streams, one core each. Stream one: ctest, the fuzz targets, then the CalculiX studies of
-# interface kinds (about 5 minutes of pytest); stream two: the rest of pytest (its FreeCAD
-# presse test alone is a quarter of an hour). With all of pytest in stream two, it ended 10
-# minutes after stream one and was the build's critical path. The checks labelled "long" (tens
-# of minutes) belong to the benchmarks: ctest -L long. The fuzz step builds the parsers,
-# readers and B-rep loading with clang and runs each under libFuzzer for 6 s (a long run of one
-# target: bash tests/fuzz/run.sh 600 nrrd).
+# Two streams, one core each: pytest (its FreeCAD presse test alone is a quarter of an hour) and
+# ctest followed by the fuzz targets, which ran after both and left a core idle for the end of
+# pytest. The checks labelled "long" (tens of minutes) belong to the benchmarks: ctest -L long.
+# The fuzz step builds the parsers, readers and B-rep loading with clang and runs each under
+# libFuzzer for 6 s (a long run of one target: bash tests/fuzz/run.sh 600 nrrd).
 ctest_log="$ORACLEMESH_TEST_OUTPUT/ctest.log"
 fuzz_log="$ORACLEMESH_TEST_OUTPUT/fuzz.log"
-studies_log="$ORACLEMESH_TEST_OUTPUT/pytest_interface_studies.log"
-studies=(tests/python/test_interface_kinds_ccx.py tests/python/test_interface_friction_ccx.py)
-pytest_run() {
-  PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -p no:cacheprovider -v "$@"
-}
 (
   stream=0
   ctest --test-dir "$build" --output-on-failure -LE long -j1 >"$ctest_log" 2>&1 || stream=1
   bash tests/fuzz/run.sh 6 >"$fuzz_log" 2>&1 || stream=1
-  # Its own temporary folder: two pytest sessions at once must not share (or clean) one.
-  pytest_run --durations=5 --basetemp "$ORACLEMESH_TEST_OUTPUT/pytest-studies" "${studies[@]}" \
-    >"$studies_log" 2>&1 || stream=1
   exit $stream
 ) &
 second_stream=$!
-ignored=()
-for f in "${studies[@]}"; do ignored+=(--ignore "$f"); done
-pytest_run --durations=15 "${ignored[@]}" tests/python tests/freecad || status=1
+PYTHONPATH="$build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -p no:cacheprovider \
+  -v --durations=15 tests/python tests/freecad || status=1
 wait "$second_stream" || status=1
 cat "$ctest_log"
 cat "$fuzz_log"
-cat "$studies_log"
 echo "tests/run.sh: build + tests took $(( $(date +%s) - start )) s"
 exit $status

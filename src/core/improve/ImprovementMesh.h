@@ -101,11 +101,12 @@ class ImprovementMesh {
   std::vector<std::array<int64_t, 3>> outerFacesAt(int64_t v) const;
 
   // The alive tets in index order (originals first, then the ones the operations made), and the
-  // boundary extracted again when a surface flip changed it. Inserted vertices come after the mesh's own (interior: dimension 3, no curve, no boundary
-  // entry). When vertices were removed or inserted, the mesh's points and per-vertex data are
-  // renumbered without the removed ones, its feature edges renamed and its boundary extracted
-  // again; the result gives each written vertex's index before, -1 for an inserted one (empty:
-  // none removed or inserted, numbering unchanged).
+  // boundary extracted again when a surface flip changed it. Inserted vertices come after the
+  // mesh's own (interior: dimension 3, no curve, no boundary entry). When vertices were removed
+  // or inserted, the mesh's points and per-vertex data are renumbered without the removed ones,
+  // its feature edges renamed and its boundary extracted again; the result gives each written
+  // vertex's index before, -1 for an inserted one (empty: none removed or inserted, numbering
+  // unchanged).
   std::vector<int64_t> writeBack(TetMesh& mesh) const;
 
  private:

@@ -107,7 +107,7 @@ class Driver {
 
   // Edge removal on the tet's edges, those at its most extreme dihedral angles first (a
   // sliver's small angles and a cap's large one), else face removal from one of its faces,
-  // else a surface flip of one of its edges on a planar piece of the surface, else a collapse.
+  // else a surface flip of one of its edges (SurfaceFlip.h), else a collapse.
   int64_t topologicalSweep() {
     int64_t changes = 0;
     for (const auto& [quality, t] : worstFirst(mesh_, options_.goal_deg)) {
