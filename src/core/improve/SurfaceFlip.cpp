@@ -18,7 +18,6 @@ namespace {
 constexpr double kFlatTolerance = 1e-9;
 
 struct Side {
-  int material = 0;
   std::vector<int64_t> tets;
   std::vector<TetCorners> made;
 };
@@ -33,9 +32,7 @@ bool flipSurfaceEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCrit
   std::map<int, Side> sides;
   double before = std::numeric_limits<double>::infinity();
   for (int64_t t : around) {
-    Side& side = sides[mesh.material(t)];
-    side.material = mesh.material(t);
-    side.tets.push_back(t);
+    sides[mesh.material(t)].tets.push_back(t);
     before = std::min(before, mesh.quality(t));
     for (int64_t v : mesh.tet(t))
       if (v != a && v != b && mesh.isProtectedFace(a, b, v) &&
@@ -76,7 +73,6 @@ bool flipSurfaceEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCrit
     }
   }
 
-  double after = std::numeric_limits<double>::infinity();
   for (auto& [material, s] : sides) {
     SizeBound bound;
     bound.criteria = &sizes;
@@ -88,9 +84,7 @@ bool flipSurfaceEdge(ImprovementMesh& mesh, int64_t a, int64_t b, const SizeCrit
     const double worst = triangulateEdgeFan(mesh, a, b, s.tets, bound, material, s.made, ends);
     // Each fan must run between c and d, or the surface faces at ab were not these two.
     if (!(worst > before) || std::minmax(ends[0], ends[1]) != std::minmax(c, d)) return false;
-    after = std::min(after, worst);
   }
-  if (!(after > before)) return false;
   // On a curved piece the new chords cut the face elsewhere: the sliver abcd changes sides,
   // counted against each material's curved-move volume bound.
   std::map<int, double> change;
