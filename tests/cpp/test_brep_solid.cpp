@@ -2,6 +2,7 @@
 // exact projection, boundary samples. Also the closed-form Sphere source.
 #include <gtest/gtest.h>
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
@@ -14,6 +15,7 @@
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <Interface_Static.hxx>
@@ -218,6 +220,61 @@ TEST(BrepSolid, NearestAnalyticFaceSideIsTheClassifiers) {
   const BrepSolid::Loaded presse =
       BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
   for (int k : {9, 14, 15}) expectNearestAnalyticFaceSideAgrees(*presse.solids[k - 1], 0.5, 16 + k);
+}
+
+// Points within 1e-4 to 3e-3 of the diagonal of the solid's edges and vertices, in random
+// directions: next to an edge the neighbour face's triangles are always near, so the nearest
+// face's side is proven by the neighbour's own surface being farther (or not at all). Where it
+// answers it must be OpenCASCADE's classifier's, and it must answer for `answeredShare`.
+void expectSideNearEdgesAgrees(const BrepSolid& solid, double answeredShare, unsigned seed) {
+  const double diagonal = solid.bbox().diagonal();
+  std::mt19937 random(seed);
+  std::normal_distribution<double> direction(0, 1);
+  std::vector<gp_Pnt> anchors;
+  for (TopExp_Explorer e(solid.shape(), TopAbs_EDGE); e.More(); e.Next()) {
+    if (BRep_Tool::Degenerated(TopoDS::Edge(e.Current()))) continue;
+    BRepAdaptor_Curve curve(TopoDS::Edge(e.Current()));
+    for (int i = 0; i <= 8; ++i)
+      anchors.push_back(curve.Value(curve.FirstParameter() + i / 8.0 * (curve.LastParameter() - curve.FirstParameter())));
+  }
+  int asked = 0, answered = 0;
+  for (const gp_Pnt& anchor : anchors)
+    for (double step : {1e-4, 1e-3, 3e-3}) {
+      gp_Vec d(direction(random), direction(random), direction(random));
+      if (d.Magnitude() < 1e-6) continue;
+      d.Normalize();
+      const gp_Pnt q = anchor.Translated(d * (step * diagonal));
+      const Point3 p{q.X(), q.Y(), q.Z()};
+      ++asked;
+      const std::optional<bool> side = solid.insideByNearestAnalyticFace(p);
+      if (!side) continue;
+      ++answered;
+      EXPECT_EQ(*side, solid.insideByOpenCascade(p))
+          << solid.name() << " at (" << p[0] << ", " << p[1] << ", " << p[2] << "), "
+          << distanceToShape(p, solid.shape()) << " from the boundary";
+    }
+  std::cout << "[ answered ] " << solid.name() << ": " << answered << " of " << asked
+            << " points near edges by the nearest analytic face\n";
+  EXPECT_GE(answered, answeredShare * asked) << solid.name();
+}
+
+TEST(BrepSolid, SideNearEdgesIsTheClassifiers) {
+  const gp_Ax2 frame(gp_Pnt(1, 2, 3), gp_Dir(0.2, 0.3, 1));
+  expectSideNearEdgesAgrees(BrepSolid(BRepPrimAPI_MakeBox(frame, 10, 7, 4).Shape(), "box"), 0.6, 31);
+  expectSideNearEdgesAgrees(BrepSolid(cylinder(), "cylinder"), 0.55, 32);
+  // Before the neighbours' surfaces counted: box 68 %, cylinder 48 %, cones 56 and 44 %, screw
+  // 24 %, part 41 %. A pointed cone: points near its apex have no perpendicular foot there.
+  expectSideNearEdgesAgrees(BrepSolid(BRepPrimAPI_MakeCone(frame, 6, 0, 10).Shape(), "pointed cone"), 0.6, 33);
+  expectSideNearEdgesAgrees(BrepSolid(BRepPrimAPI_MakeCone(frame, 6, 2, 10).Shape(), "cone"), 0.55, 34);
+  expectSideNearEdgesAgrees(*BrepSolid::fromFile(cadDir() + "/screw.step", "screw"), 0.45, 35);
+  expectSideNearEdgesAgrees(*BrepSolid::fromFile(cadDir() + "/part.step", "part"), 0.5, 36);
+  const BrepSolid::Loaded presse =
+      BrepSolid::loadFile(cadDir() + "/presse_asm.step", "presse", BrepSolid::Grouping::Separate);
+  // The load cell (tori), the fixed body and the nut (cones, a sphere): before the neighbours'
+  // surfaces counted, 20, 4 and 10 % of these points were answered.
+  const double share[] = {0.3, 0.2, 0.3};
+  int i = 0;
+  for (int k : {9, 14, 15}) expectSideNearEdgesAgrees(*presse.solids[k - 1], share[i++], 36 + k);
 }
 
 TEST(BrepSolid, ConcurrentQueriesGiveTheSequentialAnswers) {

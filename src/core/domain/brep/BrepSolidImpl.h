@@ -243,6 +243,7 @@ struct BrepSolid::Impl {
     double distance = 0, nextDistance = 0;
   };
   std::optional<SurfaceFoot> analyticFoot(const gp_Pnt& p, int face) const;
+  bool surfaceFartherThan(const gp_Pnt& p, int face, double distance) const;
   // A face the segment may cross, and the part [t0, t1] of the segment where it may.
   // A proxy triangle near the segment and where the segment's line meets its plane
   // (segment parameter, barycentric weights).

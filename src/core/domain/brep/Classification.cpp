@@ -4,11 +4,14 @@
 #include "domain/brep/BrepSolidImpl.h"
 
 #include <Standard_Failure.hxx>
+#include <gp_Cone.hxx>
 
 #include <algorithm>
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
@@ -136,15 +139,23 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
   // The face's surface at the parameters must be the foot (the same parametrisation).
   if (std::abs(away.Magnitude() - r) > margin) return std::nullopt;
 
-  // Every other face farther than r: one traversal that stops at the first triangle that may
-  // come nearer.
+  // Every other face farther than r: one traversal that stops at the first face that may come
+  // nearer. A face whose triangles come near can still be proven far by its own analytic
+  // surface (a lower bound on the distance to the face): next to an edge the neighbour's
+  // triangles are always near, and those points were most of what OpenCASCADE classified.
+  std::vector<std::pair<int, bool>> farBySurface;  // faces tried by their surface, and the answer
   const bool clear = visitTrianglesNear(*proxyTree, kp, r + maxCrossingBand, [&](size_t id) {
     const int other = proxyFaceOfTriangle[id];
     if (other == face) return true;
     const double reach = r + crossingBand[other];
     if (squaredDistanceToBox(kp, proxyTriangleBox[id]) > reach * reach * (1 + 1e-9)) return true;
     // A NaN distance counts as near: the proof then leaves the answer to OpenCASCADE.
-    return std::sqrt(squaredDistance(id)) > reach * (1 + 1e-9);
+    if (std::sqrt(squaredDistance(id)) > reach * (1 + 1e-9)) return true;
+    for (const auto& [tried, far] : farBySurface)
+      if (tried == other) return far;
+    const bool far = surfaceFartherThan(gp, other, r + margin);
+    farBySurface.emplace_back(other, far);
+    return far;
   });
   if (!clear) return std::nullopt;
 
@@ -153,6 +164,22 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
   giveBack(std::move(lease));
   if (!inDomain) return std::nullopt;
   return away.Dot(normal) < 0;
+}
+
+// Whether every point of the face's whole analytic surface is farther than `distance` from p.
+// Its nearest point is a foot of a perpendicular (closed form), except at a cone's apex, which
+// is no such foot and is counted on its own; a sphere's centre or a cylinder's axis (no single
+// foot) and non-analytic faces are never proven far.
+bool BrepSolid::Impl::surfaceFartherThan(const gp_Pnt& p, int face, double distance) const {
+  const AnalyticSurface& surface = analytic[face];
+  if (surface.kind == AnalyticSurface::Kind::None) return false;
+  const std::optional<SurfaceFoot> foot = analyticFoot(p, face);
+  if (!foot || !(foot->distance > distance)) return false;
+  if (surface.kind == AnalyticSurface::Kind::Cone) {
+    const gp_Pnt apex = gp_Cone(surface.frame, surface.semiAngle, surface.radius).Apex();
+    if (!(p.Distance(apex) > distance)) return false;
+  }
+  return true;
 }
 
 bool BrepSolid::Impl::classifyExact(const Point3& p) const {
