@@ -16,70 +16,9 @@
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
+#include "domain/brep/ProxyTraversal.h"
 
 namespace oraclemesh {
-
-namespace {
-
-double squaredDistanceToBox(const KPoint& q, const CGAL::Bbox_3& box) {
-  double sum = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double c = q[i];
-    const double gap = c < box.min(i) ? box.min(i) - c : (c > box.max(i) ? c - box.max(i) : 0.0);
-    sum += gap * gap;
-  }
-  return sum;
-}
-
-// A traversal of the proxy tree that hands `visit` each triangle whose node boxes come within
-// sqrt(reachSquared) of q, until `visit` returns false. Boxes are pruned by a plain
-// floating-point distance (the caller's reach carries a relative margin): CGAL's exact
-// ball/box predicate falls back to multi-precision arithmetic so often that it cost a third
-// of inside(), and a prefilter only needs to never prune a box it should keep.
-template <class Visit>
-struct TrianglesNear {
-  KPoint q;
-  double reachSquared;
-  Visit visit;
-  bool going = true;
-  bool go_further() const { return going; }
-  void intersection(int, const ProxyPrimitive& primitive) { going = visit(static_cast<size_t>(primitive.id())); }
-  bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
-    return squaredDistanceToBox(q, node.bbox()) <= reachSquared;
-  }
-};
-
-template <class Visit>
-bool visitTrianglesNear(const ProxyTree& tree, const KPoint& q, double reach, Visit visit) {
-  TrianglesNear<Visit> traversal{q, reach * reach * (1 + 1e-9), visit};
-  tree.traversal(0, traversal);
-  return traversal.going;
-}
-
-// The proxy triangle nearest to q among those within `reach`, by the same plain distances
-// (CGAL's closest-point query compares distances with exact predicates, slower, and a GMP
-// conversion of NaN raises SIGFPE). A NaN distance is never the nearest here.
-template <class SquaredDistance>
-struct NearestTriangle {
-  KPoint q;
-  double bestSquared;
-  SquaredDistance squaredDistance;
-  size_t best = std::numeric_limits<size_t>::max();
-  bool go_further() const { return true; }
-  void intersection(int, const ProxyPrimitive& primitive) {
-    const size_t id = static_cast<size_t>(primitive.id());
-    const double d2 = squaredDistance(id);
-    if (d2 < bestSquared) {
-      bestSquared = d2;
-      best = id;
-    }
-  }
-  bool do_intersect(int, const CGAL::AABB_node<CGAL::AABB_traits<Kernel, ProxyPrimitive>>& node) const {
-    return squaredDistanceToBox(q, node.bbox()) < bestSquared;
-  }
-};
-
-}  // namespace
 
 // The proxy's side answer holds at q when q is outside every face's band: farther from that
 // face's triangles than twice the face's deviation from the B-rep. Stops at the first

@@ -24,6 +24,7 @@
 #include "Error.h"
 #include "domain/OpenCascadeWork.h"
 #include "domain/brep/OcctConversions.h"
+#include "domain/brep/ProxyTraversal.h"
 
 namespace oraclemesh {
 
@@ -117,15 +118,14 @@ BoundaryProjection BrepSolid::project(const Point3& p) const {
     const double h = m.proxy.deflection;
     const double d0 = std::sqrt(CGAL::to_double(m.proxyTree->squared_distance(kq)));
     const double reach = d0 + 2 * h;
-    std::vector<ProxyTree::Primitive_id> near;
-    m.proxyTree->all_intersected_primitives(Kernel::Sphere_3(kq, reach * reach), std::back_inserter(near));
     std::map<int, double> faceProxyDistance;
-    for (const ProxyTree::Primitive_id& id : near) {
-      const int f = m.proxyFaceOfTriangle[static_cast<size_t>(id)];
-      const double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(kq, m.proxyTriangle(id))));
-      auto [it, fresh] = faceProxyDistance.emplace(f, d);
+    visitTrianglesNear(*m.proxyTree, kq, reach, [&](size_t id) {
+      const double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(kq, m.proxyTriangle(ProxyMesh::Face_index(id)))));
+      if (!(d <= reach * (1 + 1e-9))) return true;
+      auto [it, fresh] = faceProxyDistance.emplace(m.proxyFaceOfTriangle[id], d);
       if (!fresh) it->second = std::min(it->second, d);
-    }
+      return true;
+    });
     std::vector<std::pair<double, int>> candidates;
     for (const auto& [f, d] : faceProxyDistance) candidates.emplace_back(d, f);
     std::sort(candidates.begin(), candidates.end());
