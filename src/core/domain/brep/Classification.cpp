@@ -81,7 +81,7 @@ std::optional<bool> BrepSolid::Impl::sideOfNearestAnalyticFace(const Point3& p) 
   // Every other face farther than r: one traversal that stops at the first face that may come
   // nearer. A face whose triangles come near can still be proven far by its own analytic
   // surface (a lower bound on the distance to the face): next to an edge the neighbour's
-  // triangles are always near, and those points were most of what OpenCASCADE classified.
+  // triangles are always near.
   std::vector<std::pair<int, bool>> farBySurface;  // faces tried by their surface, and the answer
   const bool clear = visitTrianglesNear(*proxyTree, kp, r + maxCrossingBand, [&](size_t id) {
     const int other = proxyFaceOfTriangle[id];
