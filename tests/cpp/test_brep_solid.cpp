@@ -377,6 +377,15 @@ TEST(BrepSolid, ClosedShellBecomesASolid) {
   const auto fromText = BrepSolid::fromBrepText(text.str(), "shell text");
   EXPECT_NEAR(fromText->volume(), 6000, 1e-9);
 
+  // The loaders pass on the volume their checks measured, of the solid turned outward.
+  std::ostringstream reversedText;
+  BRepTools::Write(shell.Reversed(), reversedText);
+  const BrepSolid::Loaded loaded =
+      BrepSolid::loadBrepText(reversedText.str(), "reversed shell text", BrepSolid::Grouping::Separate);
+  ASSERT_EQ(loaded.solids.size(), 1u);
+  EXPECT_NEAR(loaded.solids[0]->volume(), 6000, 1e-9);
+  EXPECT_TRUE(loaded.solids[0]->inside({5, 5, 5}));
+
   // Loose faces that close a volume are sewn and accepted too.
   BRep_Builder builder;
   TopoDS_Compound faces;

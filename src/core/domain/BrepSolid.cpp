@@ -26,20 +26,37 @@ BrepSolid::BrepSolid(const TopoDS_Shape& shape, std::string name, Tessellation t
   const OpenCascadeWork working(impl_->name);
   try {
     requireFiniteGeometry(shape, what);
-    impl_->shape = validatedSolids(shape, what);
-    impl_->box = boxOf(impl_->shape);
-    impl_->diagonal = impl_->box.diagonal();
-    if (!(impl_->diagonal > 0))
-      throw InputError(what + " has an empty bounding box: select a solid that encloses a volume");
-    requireCoordinateRange(impl_->box, what);
-    impl_->classifyTolerance = 1e-9 * impl_->diagonal;
-    impl_->volume = signedVolume(impl_->shape);
-    impl_->index();
-    impl_->buildProxy(tessellation == Tessellation::Make);
+    setUp(validatedSolids(shape, what), tessellation);
   } catch (const Standard_Failure& failure) {
     throw InputError(what + " could not be processed by OpenCASCADE (" + failure.GetMessageString() +
                      "): check it with Part > Check geometry and repair it");
   }
+}
+
+BrepSolid::BrepSolid(const ValidatedSolids& solids, std::string name, Tessellation tessellation)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->name = std::move(name);
+  const OpenCascadeWork working(impl_->name);
+  try {
+    setUp(solids, tessellation);
+  } catch (const Standard_Failure& failure) {
+    throw InputError("input '" + impl_->name + "' could not be processed by OpenCASCADE (" +
+                     failure.GetMessageString() + "): check it with Part > Check geometry and repair it");
+  }
+}
+
+void BrepSolid::setUp(const ValidatedSolids& solids, Tessellation tessellation) {
+  const std::string what = "input '" + impl_->name + "'";
+  impl_->shape = solids.shape;
+  impl_->box = boxOf(impl_->shape);
+  impl_->diagonal = impl_->box.diagonal();
+  if (!(impl_->diagonal > 0))
+    throw InputError(what + " has an empty bounding box: select a solid that encloses a volume");
+  requireCoordinateRange(impl_->box, what);
+  impl_->classifyTolerance = 1e-9 * impl_->diagonal;
+  impl_->volume = solids.volume;
+  impl_->index();
+  impl_->buildProxy(tessellation == Tessellation::Make);
 }
 
 BrepSolid::~BrepSolid() = default;

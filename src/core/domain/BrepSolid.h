@@ -16,6 +16,7 @@
 namespace oraclemesh {
 
 class RunControl;
+struct ValidatedSolids;
 
 // The shape in BREP text (FreeCAD's Shape.exportBrepToString()). An unreadable text is an
 // InputError "<what> cannot be read by OpenCASCADE (<reason>)<fix>".
@@ -120,6 +121,10 @@ class BrepSolid : public Source, public BrepTopology {
   std::optional<bool> insideByNearestAnalyticFace(const Point3& p) const;
 
  private:
+  // The solids load() has checked and measured already (the public constructor checks them).
+  BrepSolid(const ValidatedSolids& solids, std::string name, Tessellation tessellation);
+  void setUp(const ValidatedSolids& solids, Tessellation tessellation);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

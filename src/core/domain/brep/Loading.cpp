@@ -72,14 +72,18 @@ BrepSolid::Loaded BrepSolid::load(const TopoDS_Shape& shape, const std::string& 
   for (const std::string& s : pieces.skipped)
     loaded.warnings.push_back(what + ": " + s + " bounds no volume and was left out; close it (Part > Shape builder) "
                               "if it should be meshed");
+  // The constructor taking the checked pieces is private (make_shared cannot reach it).
   if (grouping == Grouping::Together || pieces.solids.size() == 1) {
-    loaded.solids.push_back(namingTheFile(name, what, [&] { return std::make_shared<BrepSolid>(compoundOf(pieces.solids), name, tessellation); }));
+    loaded.solids.push_back(namingTheFile(name, what, [&] {
+      return std::shared_ptr<BrepSolid>(new BrepSolid(validatedPart(pieces, 0, pieces.solids.size()), name, tessellation));
+    }));
     return loaded;
   }
   for (size_t i = 0; i < pieces.solids.size(); ++i) {
     const std::string solidName = name + "#" + std::to_string(i + 1);
-    loaded.solids.push_back(namingTheFile(solidName, describe(solidName, path),
-                                          [&] { return std::make_shared<BrepSolid>(pieces.solids[i], solidName, tessellation); }));
+    loaded.solids.push_back(namingTheFile(solidName, describe(solidName, path), [&] {
+      return std::shared_ptr<BrepSolid>(new BrepSolid(validatedPart(pieces, i, i + 1), solidName, tessellation));
+    }));
   }
   return loaded;
 }

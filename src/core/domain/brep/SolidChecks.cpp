@@ -230,6 +230,7 @@ SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what) {
     if (v < 0) solid.Reverse();  // inside out (faces oriented inward): flip it
     if (!(std::abs(v) > 0))
       throw InputError(what + " has a solid with zero volume: select a solid that encloses a volume");
+    pieces.volumes.push_back(std::abs(v));
   }
   requireConsistentTolerances(pieces.solids, what);
   return pieces;
@@ -244,12 +245,19 @@ TopoDS_Shape compoundOf(const std::vector<TopoDS_Solid>& solids) {
   return compound;
 }
 
-TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what) {
+ValidatedSolids validatedPart(const SolidPieces& pieces, size_t first, size_t last) {
+  ValidatedSolids part;
+  part.shape = compoundOf({pieces.solids.begin() + first, pieces.solids.begin() + last});
+  for (size_t i = first; i < last; ++i) part.volume += pieces.volumes[i];
+  return part;
+}
+
+ValidatedSolids validatedSolids(const TopoDS_Shape& input, const std::string& what) {
   const SolidPieces pieces = solidPieces(input, what);
   if (!pieces.skipped.empty())
     throw InputError(what + " holds, besides its solids, pieces that bound no volume (first: " + pieces.skipped.front() +
                      "): close them (Part > Shape builder), or leave them out of the input");
-  return compoundOf(pieces.solids);
+  return validatedPart(pieces, 0, pieces.solids.size());
 }
 
 }  // namespace oraclemesh

@@ -20,8 +20,16 @@ double signedVolume(const TopoDS_Shape& solid);
 
 // The solids of one input in file order, and the open shells left out of it.
 struct SolidPieces {
-  std::vector<TopoDS_Solid> solids;
+  std::vector<TopoDS_Solid> solids;  // each oriented outward
+  std::vector<double> volumes;       // of each solid, as the check measured it
   std::vector<std::string> skipped;  // what was left out: "open shell (item 17 of 18, 3 faces, ...)"
+};
+
+// Solids that passed the checks below, as one shape, with their volume: measuring it again
+// (BRepGProp over every face) costs about what the checks did.
+struct ValidatedSolids {
+  TopoDS_Shape shape;
+  double volume = 0;
 };
 
 // Turns whatever the user gave into solids, or explains why not. Policy for open shells
@@ -32,8 +40,10 @@ struct SolidPieces {
 SolidPieces solidPieces(const TopoDS_Shape& input, const std::string& what);
 // One solid as itself, several as a compound.
 TopoDS_Shape compoundOf(const std::vector<TopoDS_Solid>& solids);
+// Solids [first, last) of `pieces` as one input.
+ValidatedSolids validatedPart(const SolidPieces& pieces, size_t first, size_t last);
 // The constructor's check: every part of the shape must be a volume. Loaders that may leave
 // open shells out (with a warning) split the shape first and pass only its solids.
-TopoDS_Shape validatedSolids(const TopoDS_Shape& input, const std::string& what);
+ValidatedSolids validatedSolids(const TopoDS_Shape& input, const std::string& what);
 
 }  // namespace oraclemesh
