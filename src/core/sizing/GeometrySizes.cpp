@@ -27,6 +27,7 @@
 #include "domain/OpenCascadeWork.h"
 #include "features/BrepSharpEdges.h"
 #include "sizing/DiscreteSurface.h"
+#include "sizing/RayFirstHit.h"
 #include "sizing/TriangleSpread.h"
 
 namespace oraclemesh {
@@ -39,6 +40,10 @@ using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
 using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 constexpr double kPi = 3.14159265358979323846;
+
+// The rays' reach beyond the distance that still asks for less than the cap, relative: the ray
+// parameter and the distance measured from the hit round differently.
+constexpr double kReachMargin = 1e-6;
 
 // The sharp angle a discrete surface's curvature uses when the job asks for no sharp edges
 // (the job's default sharp angle).
@@ -204,7 +209,8 @@ class FaceSampler {
         fromShape_(fineness != nullptr),
         sizeOverRadius_(fineness ? sizePerRadius(fineness->segments_per_circle) : 0),
         sizesPerThickness_(fineness ? fineness->sizes_per_thickness : 0),
-        offset_(1e-7 * diagonal) {
+        offset_(1e-7 * diagonal),
+        cap_(cap) {
     surfaces_.resize(solid.faceCount());
     planar_.assign(solid.faceCount(), false);
     measure(cap, control);
@@ -220,6 +226,7 @@ class FaceSampler {
         sizeOverRadius_(fineness ? sizePerRadius(fineness->segments_per_circle) : 0),
         sizesPerThickness_(fineness ? fineness->sizes_per_thickness : 0),
         offset_(1e-7 * diagonal),
+        cap_(cap),
         resolution_(surface.resolution) {
     std::vector<size_t> kept;
     triangles_ = faceTriangles(surface, kept);
@@ -367,7 +374,9 @@ class FaceSampler {
     if (!tree_) return std::numeric_limits<double>::infinity();
     const Point3 start = p - offset_ * t.normal;
     const K::Ray_3 ray(K::Point_3(start[0], start[1], start[2]), K::Vector_3(-t.normal[0], -t.normal[1], -t.normal[2]));
-    const auto hit = tree_->first_intersection(ray);
+    // A wall thicker than this asks for more than the cap, which holds anyway.
+    const RayFirstHit<TriangleTree> search(*tree_, ray, (1 + kReachMargin) * cap_ * sizesPerThickness_);
+    const auto& hit = search.hit();
     if (!hit) return std::numeric_limits<double>::infinity();
     const K::Point_3* q = boost::get<K::Point_3>(&hit->first);
     if (!q) return std::numeric_limits<double>::infinity();  // the ray runs within a triangle
@@ -389,6 +398,7 @@ class FaceSampler {
   mutable std::vector<bool> planar_;
   bool fromShape_;  // curvature and thickness count (a fineness is set)
   double sizeOverRadius_, sizesPerThickness_, offset_;
+  double cap_;             // sizes at or above it are no samples (SizeField drops them)
   double resolution_ = 0;  // a discrete surface's: no curvature size below it
   std::vector<std::array<double, 3>> cornerCurvatures_;  // a discrete surface's, per triangle
   std::vector<double> local_;  // per triangle: the smallest size asked at its corners and centre
@@ -457,7 +467,9 @@ class GapRays {
     if (!tree_) return {};
     const Point3 start = p + offset_ * t.normal;
     const K::Ray_3 ray(K::Point_3(start[0], start[1], start[2]), K::Vector_3(t.normal[0], t.normal[1], t.normal[2]));
-    const auto hit = tree_->first_intersection(ray);
+    // A gap wider than this asks for more than the cap (below): no gap.
+    const RayFirstHit<TriangleTree> search(*tree_, ray, (1 + kReachMargin) * cap_ * sizesPerGap_);
+    const auto& hit = search.hit();
     if (!hit) return {};
     const K::Point_3* q = boost::get<K::Point_3>(&hit->first);
     if (!q) return {};
